@@ -1,0 +1,37 @@
+#pragma once
+// Gaussian kernels on states (paper sec. 3).
+//
+// Each function returns an N x p sparse row-major matrix of kernel values
+// K(s_i, c_j). Values below `truncation` become structural zeros so that feature
+// rows stay sparse; truncation = 0 keeps every non-zero value. An infinite distance
+// (unreachable node) gives 0.
+
+#include <cstdint>
+#include <span>
+
+#include "kernels/eigen_types.hpp"
+
+namespace ggk::kernels {
+
+// exp(-d^2 / (2 sigma^2)); sigma > 0.
+double gaussian(double distance, double sigma);
+
+// Ordinary Gaussian kernels, Eq. (7): ED(s, c) is the Euclidean distance between
+// states.row(i) and centers.row(j).
+SparseRowMatrix ordinary_gaussian_kernels(const Eigen::Ref<const RowMatrixXd>& states,
+                                          const Eigen::Ref<const RowMatrixXd>& centers,
+                                          double sigma, double truncation = 0.0);
+
+// Geodesic Gaussian kernels, Eq. (8), on graph nodes: center_distances is p x N
+// (row j = shortest-path distances from centre j, as geodesic_distances returns).
+SparseRowMatrix geodesic_gaussian_kernels(const Eigen::Ref<const RowMatrixXd>& center_distances,
+                                          double sigma, double truncation = 0.0);
+
+// Continuous geodesic Gaussian kernels for states off the graph (paper sec. 4.2):
+// SP(s, c) = ED(s, n(s)) + SP(n(s), c), where n(s) = nearest_node[i] is the state's
+// nearest graph node and distance_to_nearest[i] = ED(s, n(s)).
+SparseRowMatrix continuous_geodesic_gaussian_kernels(
+    std::span<const std::int32_t> nearest_node, std::span<const double> distance_to_nearest,
+    const Eigen::Ref<const RowMatrixXd>& center_distances, double sigma, double truncation = 0.0);
+
+}  // namespace ggk::kernels

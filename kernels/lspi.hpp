@@ -1,0 +1,83 @@
+#pragma once
+// Least-squares policy iteration (Lagoudakis & Parr 2003; paper sec. 2.2) over a
+// fixed batch of samples and a fixed feature table.
+//
+// Q(s, a) = w^T phi(s, a), Eq. (4), with phi(s, a) = features.row(s * m + a).
+// Policy evaluation, for the current greedy policy pi (W = diag(sample weights),
+// phi'_i = phi(s'_i, pi(s'_i)), zero when sample i is terminal):
+//   BRM     psi_i = phi_i - gamma phi'_i;  (Psi^T W Psi + lambda I) w = Psi^T W r
+//           (symmetric; CHOLMOD)
+//   LSTD-Q  (Phi^T W (Phi - gamma Phi') + lambda I) w = Phi^T W r   (UMFPACK)
+// Policy improvement, Eq. (6): pi(s) = argmax_a Q(s, a), ties to the lowest action.
+// The first policy is the greedy policy of w = 0, i.e. action 0 everywhere.
+// Iteration stops when the greedy policy over all table states stops changing, or
+// after max_iterations evaluations.
+//
+// Thread-safety: fit_lspi is reentrant; distinct calls may run in parallel.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "kernels/eigen_types.hpp"
+#include "kernels/sample_batch.hpp"
+#include "kernels/sparse_solvers.hpp"
+
+namespace ggk::kernels {
+
+enum class LspiSolver { brm, lstdq };
+
+struct LspiOptions {
+  double gamma = 0.9;
+  double ridge = 0.0;  // lambda
+  std::int32_t max_iterations = 20;
+  LspiSolver solver = LspiSolver::brm;
+  SolverSettings solver_settings{};
+};
+
+enum class LspiStatus {
+  converged,       // the greedy policy stopped changing
+  max_iterations,  // still changing after max_iterations evaluations
+  solver_failed,   // an evaluation system was singular or ill-conditioned
+};
+
+const char* to_string(LspiStatus status);
+const char* to_string(LspiSolver solver);
+
+struct LspiIteration {
+  std::int32_t policy_changes = 0;  // states whose greedy action changed after this evaluation
+  double relative_residual = 0.0;
+  double rcond = 0.0;
+  bool reused_analysis = false;
+};
+
+struct LspiResult {
+  LspiStatus status = LspiStatus::max_iterations;
+  std::string message;                 // the solver's reason when status is solver_failed
+  Eigen::VectorXd weights;             // of the last successful evaluation; size 0 if none
+  std::vector<std::int32_t> policy;    // greedy action per table state for `weights`
+  std::vector<LspiIteration> history;  // one entry per successful evaluation
+  SparseColMatrix a;                   // system of the last successful evaluation
+  Eigen::VectorXd b;
+
+  std::int32_t iterations() const { return static_cast<std::int32_t>(history.size()); }
+  bool ok() const { return status != LspiStatus::solver_failed; }
+};
+
+// features: (N m) x k; samples index states in [0, N). Throws std::invalid_argument
+// on inconsistent shapes or samples.
+LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
+                    const SampleBatch& samples, const LspiOptions& options);
+
+// Q(s, a) for every table row, i.e. features * w.
+Eigen::VectorXd action_values(const SparseRowMatrix& features, const Eigen::VectorXd& weights);
+
+// argmax_a Q(s, a) per state (ties to the lowest action).
+std::vector<std::int32_t> greedy_policy(const SparseRowMatrix& features, std::int32_t num_actions,
+                                        const Eigen::VectorXd& weights);
+
+// V(s) = max_a Q(s, a) per state.
+Eigen::VectorXd state_values(const SparseRowMatrix& features, std::int32_t num_actions,
+                             const Eigen::VectorXd& weights);
+
+}  // namespace ggk::kernels
