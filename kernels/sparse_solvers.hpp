@@ -20,8 +20,8 @@ namespace ggk::kernels {
 
 struct SolveReport {
   bool ok = false;
-  std::string message;          // why it failed; empty when ok
-  double rcond = 0.0;           // reciprocal condition estimate of the factorisation
+  std::string message;             // why it failed; empty when ok
+  double rcond = 0.0;              // reciprocal condition estimate of the factorisation
   double relative_residual = 0.0;  // ||A x - b|| / ||b||
   bool reused_analysis = false;    // the symbolic analysis of the previous call was reused
 };

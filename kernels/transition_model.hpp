@@ -29,7 +29,8 @@ class EmpiricalTransitionModel {
     return row_begin(state, action) != row_end(state, action);
   }
   std::span<const std::int32_t> successors(std::int32_t state, std::int32_t action) const {
-    return {successors_.data() + row_begin(state, action), successors_.data() + row_end(state, action)};
+    return {successors_.data() + row_begin(state, action),
+            successors_.data() + row_end(state, action)};
   }
   std::span<const double> probabilities(std::int32_t state, std::int32_t action) const {
     return {probabilities_.data() + row_begin(state, action),

@@ -1,0 +1,198 @@
+#include "kernels/lspi.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace ggk::kernels {
+
+const char* to_string(LspiStatus status) {
+  switch (status) {
+    case LspiStatus::converged:
+      return "converged";
+    case LspiStatus::max_iterations:
+      return "max_iterations";
+    case LspiStatus::solver_failed:
+      return "solver_failed";
+  }
+  return "unknown";
+}
+
+const char* to_string(LspiSolver solver) {
+  switch (solver) {
+    case LspiSolver::brm:
+      return "brm";
+    case LspiSolver::lstdq:
+      return "lstdq";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// Row i of the result is scale[i] * features.row(rows[i]); rows[i] < 0 gives a zero row.
+SparseRowMatrix gather_rows(const SparseRowMatrix& features, const std::vector<std::int64_t>& rows,
+                            const std::vector<double>& scale) {
+  SparseRowMatrix out(static_cast<Eigen::Index>(rows.size()), features.cols());
+  Eigen::Index nnz = 0;
+  for (std::int64_t r : rows) {
+    if (r >= 0) nnz += features.outerIndexPtr()[r + 1] - features.outerIndexPtr()[r];
+  }
+  out.reserve(nnz);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto row = static_cast<Eigen::Index>(i);
+    out.startVec(row);
+    if (rows[i] < 0) continue;
+    for (SparseRowMatrix::InnerIterator it(features, rows[i]); it; ++it) {
+      out.insertBack(row, it.col()) = scale[i] * it.value();
+    }
+  }
+  out.finalize();
+  return out;
+}
+
+SparseColMatrix with_ridge(SparseColMatrix a, double ridge) {
+  // The diagonal is always made structurally present (even for ridge = 0): CHOLMOD
+  // needs it, and a fixed pattern lets the symbolic analysis be reused.
+  SparseColMatrix identity(a.rows(), a.cols());
+  identity.setIdentity();
+  SparseColMatrix result = a + ridge * identity;
+  result.makeCompressed();
+  return result;
+}
+
+void check_inputs(const SparseRowMatrix& features, std::int32_t num_actions,
+                  const SampleBatch& samples, const LspiOptions& options) {
+  if (num_actions <= 0) throw std::invalid_argument("fit_lspi: num_actions must be > 0");
+  if (features.rows() % num_actions != 0) {
+    throw std::invalid_argument("fit_lspi: feature table has " + std::to_string(features.rows()) +
+                                " rows, not a multiple of " + std::to_string(num_actions) +
+                                " actions");
+  }
+  if (!(options.gamma >= 0.0 && options.gamma < 1.0)) {
+    throw std::invalid_argument("fit_lspi: gamma must be in [0, 1)");
+  }
+  if (!(options.ridge >= 0.0) || !std::isfinite(options.ridge)) {
+    throw std::invalid_argument("fit_lspi: ridge must be finite and >= 0");
+  }
+  if (options.max_iterations < 1) throw std::invalid_argument("fit_lspi: max_iterations < 1");
+  samples.validate(static_cast<std::int32_t>(features.rows() / num_actions), num_actions);
+}
+
+}  // namespace
+
+Eigen::VectorXd action_values(const SparseRowMatrix& features, const Eigen::VectorXd& weights) {
+  return features * weights;
+}
+
+std::vector<std::int32_t> greedy_policy(const SparseRowMatrix& features, std::int32_t num_actions,
+                                        const Eigen::VectorXd& weights) {
+  const Eigen::VectorXd q = action_values(features, weights);
+  const auto num_states = static_cast<std::size_t>(features.rows() / num_actions);
+  std::vector<std::int32_t> policy(num_states, 0);
+  for (std::size_t s = 0; s < num_states; ++s) {
+    const auto base = static_cast<Eigen::Index>(s) * num_actions;
+    for (std::int32_t a = 1; a < num_actions; ++a) {
+      if (q(base + a) > q(base + policy[s])) policy[s] = a;
+    }
+  }
+  return policy;
+}
+
+Eigen::VectorXd state_values(const SparseRowMatrix& features, std::int32_t num_actions,
+                             const Eigen::VectorXd& weights) {
+  const Eigen::VectorXd q = action_values(features, weights);
+  const auto num_states = static_cast<Eigen::Index>(features.rows() / num_actions);
+  Eigen::VectorXd values(num_states);
+  for (Eigen::Index s = 0; s < num_states; ++s) {
+    values(s) = q.segment(s * num_actions, num_actions).maxCoeff();
+  }
+  return values;
+}
+
+LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
+                    const SampleBatch& samples, const LspiOptions& options) {
+  check_inputs(features, num_actions, samples, options);
+  const std::size_t n = samples.size();
+  const auto num_states = static_cast<std::size_t>(features.rows() / num_actions);
+  const bool brm = options.solver == LspiSolver::brm;
+
+  // Phi (rows phi(s_i, a_i)) and r are fixed across iterations. BRM folds the
+  // weights in as sqrt(w_i) on both Psi and r, LSTD-Q as w_i on Phi only.
+  std::vector<std::int64_t> sample_rows(n);
+  std::vector<double> sample_scale(n);
+  Eigen::VectorXd scaled_rewards(static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    sample_rows[i] =
+        static_cast<std::int64_t>(samples.states[i]) * num_actions + samples.actions[i];
+    sample_scale[i] = brm ? std::sqrt(samples.weights[i]) : samples.weights[i];
+    scaled_rewards(static_cast<Eigen::Index>(i)) =
+        brm ? sample_scale[i] * samples.rewards[i] : samples.rewards[i];
+  }
+  const SparseRowMatrix phi = gather_rows(features, sample_rows, sample_scale);
+  std::vector<double> unit_scale(n, 1.0);
+  const SparseRowMatrix phi_unweighted =
+      brm ? SparseRowMatrix() : gather_rows(features, sample_rows, unit_scale);
+  // LSTD-Q: b = Phi^T W r is fixed.
+  const Eigen::VectorXd lstdq_b =
+      brm ? Eigen::VectorXd() : Eigen::VectorXd(phi.transpose() * scaled_rewards);
+
+  SymmetricSolver symmetric(options.solver_settings);
+  NonsymmetricSolver nonsymmetric(options.solver_settings);
+
+  LspiResult result;
+  std::vector<std::int32_t> policy(num_states, 0);  // greedy for w = 0
+  std::vector<std::int64_t> next_rows(n);
+  std::vector<double> next_scale(n);
+  for (std::int32_t iteration = 1; iteration <= options.max_iterations; ++iteration) {
+    // phi'_i = phi(s'_i, pi(s'_i)); terminal samples do not bootstrap.
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::int32_t s_next = samples.next_states[i];
+      next_rows[i] = samples.terminals[i]
+                         ? -1
+                         : static_cast<std::int64_t>(s_next) * num_actions + policy[s_next];
+      next_scale[i] = options.gamma * (brm ? sample_scale[i] : 1.0);
+    }
+    const SparseRowMatrix phi_next = gather_rows(features, next_rows, next_scale);
+
+    SparseColMatrix a;
+    Eigen::VectorXd b;
+    if (brm) {
+      const SparseRowMatrix psi = phi - phi_next;  // sqrt(W) Psi
+      a = with_ridge(SparseColMatrix(psi.transpose() * psi), options.ridge);
+      b = psi.transpose() * scaled_rewards;
+    } else {
+      const SparseRowMatrix difference = phi_unweighted - phi_next;
+      a = with_ridge(SparseColMatrix(phi.transpose() * difference), options.ridge);
+      b = lstdq_b;
+    }
+
+    Eigen::VectorXd w;
+    const SolveReport report = brm ? symmetric.solve(a, b, w) : nonsymmetric.solve(a, b, w);
+    if (!report.ok) {
+      result.status = LspiStatus::solver_failed;
+      result.message = "policy evaluation " + std::to_string(iteration) + " (" +
+                       to_string(options.solver) + "): " + report.message;
+      return result;
+    }
+
+    std::vector<std::int32_t> improved = greedy_policy(features, num_actions, w);
+    std::int32_t changes = 0;
+    for (std::size_t s = 0; s < num_states; ++s) changes += improved[s] != policy[s] ? 1 : 0;
+    result.history.push_back(
+        {changes, report.relative_residual, report.rcond, report.reused_analysis});
+    result.weights = std::move(w);
+    result.policy = improved;
+    result.a = std::move(a);
+    result.b = std::move(b);
+    policy = std::move(improved);
+    if (changes == 0) {
+      result.status = LspiStatus::converged;
+      return result;
+    }
+  }
+  result.status = LspiStatus::max_iterations;
+  return result;
+}
+
+}  // namespace ggk::kernels

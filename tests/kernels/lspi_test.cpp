@@ -1,0 +1,265 @@
+#include "kernels/lspi.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "kernels/gaussian_kernels.hpp"
+#include "kernels/random_stream.hpp"
+#include "kernels/state_action_basis.hpp"
+
+namespace ggk::kernels {
+namespace {
+
+// A finite MDP in tabular form, for exact policy iteration.
+struct TabularMdp {
+  int num_states = 0, num_actions = 0;
+  // Per (s, a) = s * m + a: successors, probabilities, reward, and which successors end the
+  // episode.
+  std::vector<std::vector<int>> next;
+  std::vector<std::vector<double>> prob;
+  std::vector<double> reward;
+  int terminal_state = -1;  // entering it ends the episode
+};
+
+TabularMdp random_mdp(int n, int m, bool deterministic, bool with_terminal, std::uint64_t seed) {
+  RandomStream rng(seed, 0, 0);
+  TabularMdp mdp;
+  mdp.num_states = n;
+  mdp.num_actions = m;
+  mdp.terminal_state = with_terminal ? n - 1 : -1;
+  for (int sa = 0; sa < n * m; ++sa) {
+    const int successors = deterministic ? 1 : 1 + static_cast<int>(rng.uniform_index(3));
+    std::vector<int> next;
+    std::vector<double> prob;
+    double total = 0;
+    for (int k = 0; k < successors; ++k) {
+      int s_next = static_cast<int>(rng.uniform_index(n));
+      if (std::find(next.begin(), next.end(), s_next) != next.end()) continue;
+      next.push_back(s_next);
+      prob.push_back(rng.uniform(0.1, 1.0));
+      total += prob.back();
+    }
+    for (double& p : prob) p /= total;
+    mdp.next.push_back(next);
+    mdp.prob.push_back(prob);
+    mdp.reward.push_back(rng.uniform(-1.0, 1.0));
+  }
+  return mdp;
+}
+
+// Exact policy iteration from the all-zeros policy, same tie rule as LSPI.
+struct ExactSolution {
+  std::vector<std::int32_t> policy;
+  Eigen::VectorXd q;
+  int iterations = 0;
+};
+
+ExactSolution exact_policy_iteration(const TabularMdp& mdp, double gamma) {
+  const int n = mdp.num_states, m = mdp.num_actions;
+  ExactSolution sol;
+  sol.policy.assign(n, 0);
+  for (int iteration = 1; iteration <= 100; ++iteration) {
+    Eigen::MatrixXd a = Eigen::MatrixXd::Identity(n * m, n * m);
+    Eigen::VectorXd r(n * m);
+    for (int sa = 0; sa < n * m; ++sa) {
+      r(sa) = mdp.reward[sa];
+      for (std::size_t k = 0; k < mdp.next[sa].size(); ++k) {
+        const int s_next = mdp.next[sa][k];
+        if (s_next == mdp.terminal_state) continue;
+        a(sa, s_next * m + sol.policy[s_next]) -= gamma * mdp.prob[sa][k];
+      }
+    }
+    sol.q = a.partialPivLu().solve(r);
+    sol.iterations = iteration;
+    int changes = 0;
+    for (int s = 0; s < n; ++s) {
+      int best = 0;
+      for (int act = 1; act < m; ++act)
+        if (sol.q(s * m + act) > sol.q(s * m + best)) best = act;
+      changes += best != sol.policy[s];
+      sol.policy[s] = best;
+    }
+    if (changes == 0) break;
+  }
+  return sol;
+}
+
+// One weighted sample per (s, a, s') with weight P(s'|s,a): the batch holds the model exactly.
+SampleBatch full_coverage_samples(const TabularMdp& mdp) {
+  SampleBatch batch;
+  for (int s = 0; s < mdp.num_states; ++s)
+    for (int a = 0; a < mdp.num_actions; ++a) {
+      const int sa = s * mdp.num_actions + a;
+      for (std::size_t k = 0; k < mdp.next[sa].size(); ++k) {
+        const int s_next = mdp.next[sa][k];
+        batch.add(s, a, mdp.reward[sa], s_next, s_next == mdp.terminal_state, mdp.prob[sa][k]);
+      }
+    }
+  return batch;
+}
+
+SparseRowMatrix tabular_features(int n, int m) {
+  SparseRowMatrix identity(n * m, n * m);
+  identity.setIdentity();
+  return identity;
+}
+
+struct TabularCase {
+  LspiSolver solver;
+  bool deterministic;
+  bool with_terminal;
+};
+
+class TabularLspiEqualsPolicyIteration : public testing::TestWithParam<TabularCase> {};
+
+// BRM's fixed point equals the Bellman solution only for deterministic transitions
+// (double-sampling bias otherwise), so BRM is checked on deterministic MDPs and
+// LSTD-Q on stochastic and deterministic ones.
+TEST_P(TabularLspiEqualsPolicyIteration, PolicyAndQMatch) {
+  const TabularCase param = GetParam();
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    const TabularMdp mdp = random_mdp(20, 4, param.deterministic, param.with_terminal, seed);
+    const ExactSolution exact = exact_policy_iteration(mdp, 0.9);
+    LspiOptions options;
+    options.solver = param.solver;
+    options.max_iterations = 100;
+    const LspiResult result =
+        fit_lspi(tabular_features(20, 4), 4, full_coverage_samples(mdp), options);
+    ASSERT_EQ(result.status, LspiStatus::converged) << result.message;
+    EXPECT_EQ(result.policy, exact.policy) << "seed " << seed;
+    EXPECT_EQ(result.iterations(), exact.iterations) << "seed " << seed;
+    EXPECT_LT((result.weights - exact.q).lpNorm<Eigen::Infinity>(), 1e-8) << "seed " << seed;
+    EXPECT_EQ(result.history.back().policy_changes, 0);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, TabularLspiEqualsPolicyIteration,
+                         testing::Values(TabularCase{LspiSolver::lstdq, false, false},
+                                         TabularCase{LspiSolver::lstdq, false, true},
+                                         TabularCase{LspiSolver::lstdq, true, true},
+                                         TabularCase{LspiSolver::brm, true, false},
+                                         TabularCase{LspiSolver::brm, true, true}));
+
+// Kernel features on a chain: 30 states on a line, 5 centres.
+SparseRowMatrix chain_features(int n, int m) {
+  RowMatrixXd states(n, 1), centers(5, 1);
+  for (int s = 0; s < n; ++s) states(s, 0) = s;
+  for (int j = 0; j < 5; ++j) centers(j, 0) = j * (n - 1) / 4.0;
+  return copy_basis(ordinary_gaussian_kernels(states, centers, 4.0), m);
+}
+
+SampleBatch random_chain_walk(int n, int steps, std::uint64_t seed) {
+  RandomStream rng(seed, 0, 0);
+  SampleBatch batch;
+  int s = static_cast<int>(rng.uniform_index(n));
+  for (int t = 0; t < steps; ++t) {
+    const int a = static_cast<int>(rng.uniform_index(2));
+    const int s_next = std::clamp(s + (a == 0 ? -1 : 1), 0, n - 1);
+    const bool goal = s_next == n - 1;
+    batch.add(s, a, goal ? 1.0 : 0.0, s_next, goal);
+    s = goal ? static_cast<int>(rng.uniform_index(n)) : s_next;
+  }
+  return batch;
+}
+
+class FoldedSamples : public testing::TestWithParam<LspiSolver> {};
+
+TEST_P(FoldedSamples, GiveTheSameWeightsAsTheUnfoldedBatch) {
+  const SparseRowMatrix features = chain_features(30, 2);
+  const SampleBatch batch = random_chain_walk(30, 3000, 5);
+  const SampleBatch folded = fold_duplicate_samples(batch);
+  ASSERT_LT(folded.size(), batch.size() / 10);  // the walk revisits transitions a lot
+  LspiOptions options;
+  options.solver = GetParam();
+  options.ridge = 1e-6;
+  const LspiResult full = fit_lspi(features, 2, batch, options);
+  const LspiResult compact = fit_lspi(features, 2, folded, options);
+  ASSERT_TRUE(full.ok()) << full.message;
+  ASSERT_TRUE(compact.ok()) << compact.message;
+  EXPECT_EQ(full.iterations(), compact.iterations());
+  EXPECT_EQ(full.policy, compact.policy);
+  EXPECT_LT((full.weights - compact.weights).norm(), 1e-9 * full.weights.norm());
+  // The learned policy walks right, towards the goal. (Five wide kernels cannot
+  // resolve the tiny values near the far wall, where LSTD-Q picks left at s <= 3.)
+  for (int s = 8; s < 29; ++s) EXPECT_EQ(full.policy[s], 1) << "state " << s;
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, FoldedSamples,
+                         testing::Values(LspiSolver::brm, LspiSolver::lstdq));
+
+class RankDeficient : public testing::TestWithParam<LspiSolver> {};
+
+TEST_P(RankDeficient, IsReportedWithoutRidgeAndRegularisedWithIt) {
+  // 12 basis functions, samples on only 3 distinct (s, a) pairs.
+  const SparseRowMatrix features = tabular_features(6, 2);
+  SampleBatch batch;
+  batch.add(0, 0, 1.0, 1, false);
+  batch.add(1, 1, 0.0, 2, false);
+  batch.add(2, 0, 0.5, 0, false);
+  LspiOptions options;
+  options.solver = GetParam();
+  const LspiResult singular = fit_lspi(features, 2, batch, options);
+  EXPECT_EQ(singular.status, LspiStatus::solver_failed);
+  EXPECT_FALSE(singular.message.empty());
+  EXPECT_EQ(singular.weights.size(), 0);
+
+  options.ridge = 1e-3;
+  const LspiResult regularised = fit_lspi(features, 2, batch, options);
+  ASSERT_TRUE(regularised.ok()) << regularised.message;
+  EXPECT_TRUE(regularised.weights.allFinite());
+  EXPECT_EQ(regularised.weights.size(), 12);
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, RankDeficient,
+                         testing::Values(LspiSolver::brm, LspiSolver::lstdq));
+
+TEST(Lspi, BrmReusesTheSymbolicAnalysisWhenThePatternHolds) {
+  const SparseRowMatrix features = chain_features(30, 2);
+  LspiOptions options;
+  options.ridge = 1e-6;
+  const LspiResult result = fit_lspi(features, 2, random_chain_walk(30, 2000, 9), options);
+  ASSERT_GE(result.iterations(), 2);
+  EXPECT_FALSE(result.history[0].reused_analysis);
+  // Dense Gaussian features: every iteration's matrix has the same full pattern.
+  EXPECT_TRUE(result.history[1].reused_analysis);
+}
+
+TEST(Lspi, StopsAtTheIterationCap) {
+  const TabularMdp mdp = random_mdp(20, 4, true, false, 3);
+  ASSERT_GT(exact_policy_iteration(mdp, 0.9).iterations, 1);
+  LspiOptions options;
+  options.max_iterations = 1;
+  const LspiResult result =
+      fit_lspi(tabular_features(20, 4), 4, full_coverage_samples(mdp), options);
+  EXPECT_EQ(result.status, LspiStatus::max_iterations);
+  EXPECT_EQ(result.iterations(), 1);
+}
+
+TEST(Lspi, RejectsInconsistentInputs) {
+  const SparseRowMatrix features = tabular_features(3, 2);
+  SampleBatch batch;
+  batch.add(0, 0, 0.0, 3, false);  // state 3 does not exist
+  EXPECT_THROW(fit_lspi(features, 2, batch, {}), std::invalid_argument);
+  EXPECT_THROW(fit_lspi(features, 4, SampleBatch{}, {}), std::invalid_argument);
+  LspiOptions bad_gamma;
+  bad_gamma.gamma = 1.0;
+  EXPECT_THROW(fit_lspi(features, 2, SampleBatch{}, bad_gamma), std::invalid_argument);
+}
+
+TEST(Lspi, StateValuesAndGreedyPolicyFollowQ) {
+  const SparseRowMatrix features = tabular_features(2, 3);
+  Eigen::VectorXd w(6);
+  w << 0.1, 0.5, 0.5, -1.0, -2.0, -0.5;
+  EXPECT_EQ(greedy_policy(features, 3, w),
+            (std::vector<std::int32_t>{1, 2}));  // ties to the lowest
+  const Eigen::VectorXd v = state_values(features, 3, w);
+  EXPECT_DOUBLE_EQ(v(0), 0.5);
+  EXPECT_DOUBLE_EQ(v(1), -0.5);
+}
+
+}  // namespace
+}  // namespace ggk::kernels

@@ -1,0 +1,122 @@
+#include "kernels/shortest_paths.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <stdexcept>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
+#include "kernels/random_stream.hpp"
+
+namespace ggk::kernels {
+namespace {
+
+// A random graph: a spanning path when `connected`, plus random extra edges.
+// Without `connected`, nodes split into two halves with no edge between them.
+CsrGraph random_graph(std::int32_t n, std::int32_t extra_edges, bool connected,
+                      std::uint64_t seed) {
+  RandomStream rng(seed, 0, 0);
+  std::vector<WeightedEdge> edges;
+  const std::int32_t half = n / 2;
+  auto same_part = [&](std::int32_t u, std::int32_t v) {
+    return connected || (u < half) == (v < half);
+  };
+  for (std::int32_t u = 0; u + 1 < n; ++u) {
+    if (same_part(u, u + 1)) edges.push_back({u, u + 1, rng.uniform(0.1, 10.0)});
+  }
+  for (std::int32_t e = 0; e < extra_edges; ++e) {
+    const auto u = static_cast<std::int32_t>(rng.uniform_index(n));
+    const auto v = static_cast<std::int32_t>(rng.uniform_index(n));
+    if (same_part(u, v)) edges.push_back({u, v, rng.uniform(0.1, 10.0)});
+  }
+  return graph_from_edges(n, edges);
+}
+
+RowMatrixXd floyd_warshall(const CsrGraph& g) {
+  RowMatrixXd d = RowMatrixXd::Constant(g.num_nodes, g.num_nodes, kUnreachable);
+  for (std::int32_t u = 0; u < g.num_nodes; ++u) {
+    d(u, u) = 0.0;
+    for (std::int64_t arc = g.indptr[u]; arc < g.indptr[u + 1]; ++arc) {
+      d(u, g.indices[arc]) = std::min(d(u, g.indices[arc]), g.weights[arc]);
+    }
+  }
+  for (std::int32_t k = 0; k < g.num_nodes; ++k)
+    for (std::int32_t i = 0; i < g.num_nodes; ++i)
+      for (std::int32_t j = 0; j < g.num_nodes; ++j) d(i, j) = std::min(d(i, j), d(i, k) + d(k, j));
+  return d;
+}
+
+class ShortestPathsAgainstFloydWarshall : public testing::TestWithParam<bool> {};
+
+TEST_P(ShortestPathsAgainstFloydWarshall, AllSourcesMatch) {
+  const bool connected = GetParam();
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    const CsrGraph g = random_graph(60, 150, connected, seed);
+    const RowMatrixXd expected = floyd_warshall(g);
+    std::vector<std::int32_t> sources(static_cast<std::size_t>(g.num_nodes));
+    std::iota(sources.begin(), sources.end(), 0);
+    const RowMatrixXd actual = geodesic_distances(g, sources);
+    for (std::int32_t i = 0; i < g.num_nodes; ++i) {
+      for (std::int32_t j = 0; j < g.num_nodes; ++j) {
+        if (std::isinf(expected(i, j))) {
+          EXPECT_TRUE(std::isinf(actual(i, j))) << i << " -> " << j;
+        } else {
+          EXPECT_NEAR(actual(i, j), expected(i, j), 1e-9 * (1 + expected(i, j)))
+              << i << " -> " << j;
+        }
+      }
+    }
+    if (!connected) {
+      EXPECT_TRUE(std::isinf(actual(0, g.num_nodes - 1)));
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(ConnectedAndDisconnected, ShortestPathsAgainstFloydWarshall,
+                         testing::Values(true, false));
+
+TEST(ShortestPaths, BitIdenticalAcrossThreadCounts) {
+  const CsrGraph g = random_graph(2000, 6000, true, 11);
+  std::vector<std::int32_t> sources;
+  for (std::int32_t s = 0; s < g.num_nodes; s += 17) sources.push_back(s);
+  auto run_with = [&](int threads) {
+    tbb::task_arena arena(threads);
+    RowMatrixXd d;
+    arena.execute([&] { d = geodesic_distances(g, sources); });
+    return d;
+  };
+  const RowMatrixXd one = run_with(1);
+  for (int threads : {2, 4, 8}) {
+    const RowMatrixXd many = run_with(threads);
+    ASSERT_EQ(0, std::memcmp(one.data(), many.data(), sizeof(double) * one.size()))
+        << threads << " threads";
+  }
+}
+
+TEST(ShortestPaths, WorkspaceIsReusableAcrossGraphsOfDifferentSize) {
+  DijkstraWorkspace workspace;
+  const CsrGraph big = random_graph(100, 300, true, 3);
+  const CsrGraph small = random_graph(10, 20, true, 4);
+  std::vector<double> d_big(100), d_small(10);
+  shortest_path_distances(big, 5, d_big, workspace);
+  shortest_path_distances(small, 2, d_small, workspace);
+  const RowMatrixXd expected = floyd_warshall(small);
+  for (int j = 0; j < 10; ++j) EXPECT_NEAR(d_small[j], expected(2, j), 1e-12);
+}
+
+TEST(ShortestPaths, RejectsBadSourcesAndBuffers) {
+  const CsrGraph g = random_graph(10, 10, true, 5);
+  const std::vector<std::int32_t> bad = {0, 10};
+  EXPECT_THROW(geodesic_distances(g, bad), std::invalid_argument);
+  DijkstraWorkspace workspace;
+  std::vector<double> wrong_size(9);
+  EXPECT_THROW(shortest_path_distances(g, 0, wrong_size, workspace), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ggk::kernels
