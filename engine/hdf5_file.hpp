@@ -1,0 +1,201 @@
+#pragma once
+// Hdf5File: a small RAII wrapper over the HDF5 C API for the result store.
+//
+// Paths are HDF5 object paths inside the file ("/maze/run_000/samples/rewards");
+// a leading '/' is optional, "/" is the root group. Every write creates a new
+// object, creating missing parent groups on the way; writing to a path that
+// already exists is an error naming the path. The only way to discard data is
+// remove(), which the engine uses to drop an incomplete run before redoing it.
+// (HDF5 does not give the space of removed objects back; h5repack does.)
+//
+// Layout on disk, chosen so that h5py/pandas read it without help:
+//  - numeric datasets are little-endian IEEE/two's complement, 1-D or 2-D
+//    row-major; non-empty ones are chunked with shuffle + gzip (level
+//    gzip_level(), default 4); empty ones (a 0 in the shape) are contiguous;
+//  - string datasets and string attributes are variable-length UTF-8; readers
+//    also accept fixed-length strings;
+//  - a sparse matrix is a CSR triple group <path>/{indptr int64, indices int32,
+//    data double} with attribute shape = int64[2] {rows, cols};
+//  - a table is a 1-D extendable dataset of a compound type (int32, int64,
+//    double and fixed-length NUL-padded UTF-8 string columns), so that
+//    pandas.DataFrame(h5py.File(f)[path][:]) reads it in one call.
+// Default library format bounds (files readable by HDF5 >= 1.8, h5py on
+// Debian 12). After flush() returns, everything written so far is on disk, so
+// a file whose writer was killed right after a flush opens with every flushed
+// object. HDF5 1.10 has no journal: a kill in the middle of later writes can
+// still leave metadata half written; keep the time between flushes short.
+//
+// Errors: every failure throws std::runtime_error naming the file, the object
+// path and HDF5's own reason (collected from its error stack; HDF5's automatic
+// printing to stderr is switched off for the whole process on first use).
+//
+// Thread-safety: none; one thread at a time per object. HDF5 itself may not be
+// entered concurrently unless built thread-safe (Debian 12's is, with one
+// global lock, so parallel calls would only queue up; other builds are not).
+// The engine therefore makes every HDF5 call on StoreWriter's single thread.
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+namespace ggk::engine {
+
+// Row-major 2-D array as read back from a file: element (i, j) is data[i * cols + j].
+template <class T>
+struct RowMajorArray {
+  std::int64_t rows = 0;
+  std::int64_t cols = 0;
+  std::vector<T> data;
+};
+
+// Compressed sparse row matrix as stored in a file: row i holds the entries
+// indptr[i] .. indptr[i + 1] - 1 of indices (columns) and data (values).
+struct CsrArrays {
+  std::int64_t rows = 0;
+  std::int64_t cols = 0;
+  std::vector<std::int64_t> indptr;  // rows + 1 entries, indptr[0] = 0
+  std::vector<std::int32_t> indices;
+  std::vector<double> data;
+};
+
+// Same storage order and index type as ggk::kernels::SparseRowMatrix.
+using CsrMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, std::int32_t>;
+
+enum class ColumnType { kInt32, kInt64, kFloat64, kString };
+
+// One column of a table. Strings are fixed-length: string_size bytes of UTF-8,
+// NUL-padded; a longer value is an error (no silent truncation).
+struct TableColumn {
+  std::string name;
+  ColumnType type = ColumnType::kFloat64;
+  std::size_t string_size = 0;  // bytes, > 0 for kString, ignored otherwise
+
+  bool operator==(const TableColumn&) const = default;
+};
+
+// One cell / one row of a table; a row holds one value per column, in column
+// order, each of the column's type.
+using TableValue = std::variant<std::int32_t, std::int64_t, double, std::string>;
+using TableRow = std::vector<TableValue>;
+
+class Hdf5File {
+ public:
+  enum class CreateMode {
+    kFailIfExists,  // an existing file is an error
+    kTruncate,      // an existing file is replaced
+  };
+
+  // Creates a new file (opened read-write).
+  static Hdf5File create(const std::filesystem::path& path,
+                         CreateMode mode = CreateMode::kFailIfExists);
+  static Hdf5File open_read_only(const std::filesystem::path& path);
+  static Hdf5File open_read_write(const std::filesystem::path& path);
+
+  Hdf5File(Hdf5File&& other) noexcept;
+  Hdf5File& operator=(Hdf5File&& other) noexcept;
+  Hdf5File(const Hdf5File&) = delete;
+  Hdf5File& operator=(const Hdf5File&) = delete;
+  ~Hdf5File();  // closes the file; errors on close are dropped (call flush() first)
+
+  const std::filesystem::path& path() const { return path_; }
+  bool read_only() const { return read_only_; }
+
+  // Compression of chunked datasets written from now on: 0 (none) .. 9.
+  void set_gzip_level(int level);
+  int gzip_level() const { return gzip_level_; }
+
+  // Writes every buffer and all metadata of the file to disk (H5Fflush).
+  void flush();
+
+  // True when every component of path exists ("/" always exists).
+  bool exists(std::string_view path) const;
+  // Creates a group and any missing parents; an existing path is an error.
+  void create_group(std::string_view path);
+  // Unlinks the object at path (a whole group with everything below it).
+  void remove(std::string_view path);
+  // Shape of the dataset at path (empty for a scalar dataset).
+  std::vector<std::int64_t> dataset_shape(std::string_view path) const;
+
+  // 1-D numeric datasets.
+  void write_vector(std::string_view path, std::span<const double> values);
+  void write_vector(std::string_view path, std::span<const float> values);
+  void write_vector(std::string_view path, std::span<const std::int32_t> values);
+  void write_vector(std::string_view path, std::span<const std::int64_t> values);
+  void write_vector(std::string_view path, std::span<const std::uint8_t> values);
+  // T is one of the five types above and must match the stored element type
+  // exactly (class, size, signedness); the dataset must be 1-D.
+  template <class T>
+  std::vector<T> read_vector(std::string_view path) const;
+
+  // 2-D row-major numeric datasets; values.size() must equal rows * cols.
+  void write_matrix(std::string_view path, std::int64_t rows, std::int64_t cols,
+                    std::span<const double> values);
+  void write_matrix(std::string_view path, std::int64_t rows, std::int64_t cols,
+                    std::span<const std::int32_t> values);
+  template <class T>  // double or std::int32_t
+  RowMajorArray<T> read_matrix(std::string_view path) const;
+
+  // 1-D string datasets (UTF-8, no embedded NUL characters).
+  void write_strings(std::string_view path, std::span<const std::string> values);
+  std::vector<std::string> read_strings(std::string_view path) const;
+
+  // Attributes on the object at object_path ("/" for the file root). Writing an
+  // attribute that exists is an error; remove_attribute() first to replace one.
+  bool has_attribute(std::string_view object_path, std::string_view name) const;
+  void remove_attribute(std::string_view object_path, std::string_view name);
+  void write_string_attribute(std::string_view object_path, std::string_view name,
+                              std::string_view value);
+  void write_double_attribute(std::string_view object_path, std::string_view name, double value);
+  void write_int64_attribute(std::string_view object_path, std::string_view name,
+                             std::int64_t value);
+  void write_int64_array_attribute(std::string_view object_path, std::string_view name,
+                                   std::span<const std::int64_t> values);
+  std::string read_string_attribute(std::string_view object_path, std::string_view name) const;
+  double read_double_attribute(std::string_view object_path, std::string_view name) const;
+  std::int64_t read_int64_attribute(std::string_view object_path, std::string_view name) const;
+  std::vector<std::int64_t> read_int64_array_attribute(std::string_view object_path,
+                                                       std::string_view name) const;
+
+  // Sparse matrix as a CSR triple group (layout above). The arrays are checked:
+  // indptr has rows + 1 non-decreasing entries from 0 to nnz, column indices lie
+  // in [0, cols). values_name names the value dataset (the graph stores
+  // "weights"); the reader must pass the same name.
+  void write_csr(std::string_view path, std::int64_t rows, std::int64_t cols,
+                 std::span<const std::int64_t> indptr, std::span<const std::int32_t> indices,
+                 std::span<const double> values, std::string_view values_name = "data");
+  void write_csr(std::string_view path, const CsrMatrix& matrix,
+                 std::string_view values_name = "data");
+  CsrArrays read_csr(std::string_view path, std::string_view values_name = "data") const;
+  CsrMatrix read_csr_matrix(std::string_view path, std::string_view values_name = "data") const;
+
+  // Tables: create an empty table, then append rows in as many batches as
+  // needed (each batch is one extend + one write). chunk_rows sets the chunk
+  // size (rows per chunk, >= 1). The column list of an existing table is read
+  // from the file, so appending works after reopening it.
+  void create_table(std::string_view path, std::span<const TableColumn> columns,
+                    std::int64_t chunk_rows = 256);
+  void append_rows(std::string_view path, std::span<const TableRow> rows);
+  std::vector<TableColumn> read_table_columns(std::string_view path) const;
+  std::vector<TableRow> read_table(std::string_view path) const;
+
+ private:
+  Hdf5File(std::filesystem::path path, std::int64_t id, bool read_only);
+  static Hdf5File open(const std::filesystem::path& path, bool read_only);
+
+  // Throws unless the file is writable and object_path does not exist yet.
+  void require_new_object(std::string_view object_path) const;
+
+  std::filesystem::path path_;
+  std::int64_t id_ = -1;  // the hid_t of the open file; -1 once moved from
+  bool read_only_ = false;
+  int gzip_level_ = 4;
+};
+
+}  // namespace ggk::engine
