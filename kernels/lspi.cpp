@@ -1,5 +1,6 @@
 #include "kernels/lspi.hpp"
 
+#include <cassert>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -51,14 +52,71 @@ SparseRowMatrix gather_rows(const SparseRowMatrix& features, const std::vector<s
   return out;
 }
 
-SparseColMatrix with_ridge(SparseColMatrix a, double ridge) {
-  // The diagonal is always made structurally present (even for ridge = 0): CHOLMOD
-  // needs it, and a fixed pattern lets the symbolic analysis be reused.
-  SparseColMatrix identity(a.rows(), a.cols());
-  identity.setIdentity();
-  SparseColMatrix result = a + ridge * identity;
-  result.makeCompressed();
-  return result;
+// Largest k for which A is accumulated in a dense k x k buffer (32 MiB at the
+// limit). Dense accumulation is ~4x faster than Eigen's sparse-sparse product for
+// the LSPI sizes of the paper (k of a few hundred, tens of non-zeros per row).
+constexpr Eigen::Index kDenseAssemblyLimit = 2048;
+
+enum class Triangle { lower, full };
+
+// A = left^T right + ridge I as a compressed sparse matrix; with Triangle::lower
+// only the lower triangle is formed; it requires left and right to be the same
+// matrix (the symmetric BRM case). The
+// diagonal is always structurally present, even for ridge = 0: CHOLMOD needs it,
+// and a stable pattern lets the symbolic analysis be reused.
+SparseColMatrix assemble_system(const SparseRowMatrix& left, const SparseRowMatrix& right,
+                                Triangle triangle, double ridge) {
+  const Eigen::Index k = left.cols();
+  assert(triangle == Triangle::full || &left == &right);
+  if (k > kDenseAssemblyLimit) {
+    SparseColMatrix identity(k, k);
+    identity.setIdentity();
+    SparseColMatrix product = left.transpose() * right;
+    SparseColMatrix a = triangle == Triangle::lower
+                            ? SparseColMatrix(product.triangularView<Eigen::Lower>())
+                            : product;
+    a = a + ridge * identity;
+    a.makeCompressed();
+    return a;
+  }
+  // Row i adds the outer product left_i^T right_i: A(q, p) += left(i, q) right(i, p),
+  // column p of the buffer gathers A(., p). Rows are visited in sample order, so
+  // the sums are deterministic.
+  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(k, k);
+  for (Eigen::Index i = 0; i < left.rows(); ++i) {
+    const std::int32_t l_begin = left.outerIndexPtr()[i], l_end = left.outerIndexPtr()[i + 1];
+    const std::int32_t r_begin = right.outerIndexPtr()[i], r_end = right.outerIndexPtr()[i + 1];
+    for (std::int32_t rp = r_begin; rp < r_end; ++rp) {
+      const std::int32_t p = right.innerIndexPtr()[rp];
+      const double v = right.valuePtr()[rp];
+      double* column = dense.col(p).data();
+      // Lower triangle (left == right, indices sorted): rows q >= p start at rp.
+      const std::int32_t first = triangle == Triangle::lower ? rp : l_begin;
+      for (std::int32_t lq = first; lq < l_end; ++lq) {
+        column[left.innerIndexPtr()[lq]] += left.valuePtr()[lq] * v;
+      }
+    }
+  }
+  SparseColMatrix a(k, k);
+  std::int64_t nnz = 0;
+  for (Eigen::Index col = 0; col < k; ++col) {
+    for (Eigen::Index row = triangle == Triangle::lower ? col : 0; row < k; ++row) {
+      nnz += (dense(row, col) != 0.0 || row == col) ? 1 : 0;
+    }
+  }
+  a.reserve(nnz);
+  for (Eigen::Index col = 0; col < k; ++col) {
+    a.startVec(col);
+    for (Eigen::Index row = triangle == Triangle::lower ? col : 0; row < k; ++row) {
+      if (row == col) {
+        a.insertBack(row, col) = dense(row, col) + ridge;
+      } else if (dense(row, col) != 0.0) {
+        a.insertBack(row, col) = dense(row, col);
+      }
+    }
+  }
+  a.finalize();
+  return a;
 }
 
 void check_inputs(const SparseRowMatrix& features, std::int32_t num_actions,
@@ -159,11 +217,11 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
     Eigen::VectorXd b;
     if (brm) {
       const SparseRowMatrix psi = phi - phi_next;  // sqrt(W) Psi
-      a = with_ridge(SparseColMatrix(psi.transpose() * psi), options.ridge);
+      a = assemble_system(psi, psi, Triangle::lower, options.ridge);
       b = psi.transpose() * scaled_rewards;
     } else {
       const SparseRowMatrix difference = phi_unweighted - phi_next;
-      a = with_ridge(SparseColMatrix(phi.transpose() * difference), options.ridge);
+      a = assemble_system(phi, difference, Triangle::full, options.ridge);
       b = lstdq_b;
     }
 

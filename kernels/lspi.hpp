@@ -57,7 +57,7 @@ struct LspiResult {
   Eigen::VectorXd weights;             // of the last successful evaluation; size 0 if none
   std::vector<std::int32_t> policy;    // greedy action per table state for `weights`
   std::vector<LspiIteration> history;  // one entry per successful evaluation
-  SparseColMatrix a;                   // system of the last successful evaluation
+  SparseColMatrix a;  // system of the last successful evaluation (BRM: lower triangle only)
   Eigen::VectorXd b;
 
   std::int32_t iterations() const { return static_cast<std::int32_t>(history.size()); }
