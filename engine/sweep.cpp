@@ -1,0 +1,26 @@
+#include "engine/sweep.hpp"
+
+namespace ggk::engine {
+
+std::vector<SweepPoint> expand_sweep(const JobSpec& job) {
+  const SweepAxes& axes = job.sweep;
+  std::vector<SweepPoint> points;
+  points.reserve(axes.basis.size() * axes.kernels.size() * axes.sigma.size() * axes.solver.size() *
+                 axes.lambda.size());
+  // Nested loops, outermost first: the last axis (lambda) varies fastest.
+  for (const KernelType basis : axes.basis) {
+    for (const std::int32_t kernel_count : axes.kernels) {
+      for (const double sigma : axes.sigma) {
+        for (const kernels::LspiSolver solver : axes.solver) {
+          for (const double lambda : axes.lambda) {
+            const auto index = static_cast<std::int32_t>(points.size());
+            points.push_back({index, basis, kernel_count, sigma, solver, lambda});
+          }
+        }
+      }
+    }
+  }
+  return points;
+}
+
+}  // namespace ggk::engine
