@@ -55,7 +55,8 @@ std::string describe_value(const toml::node& node);
 class TomlTableReader {
  public:
   // table_path: the table's dotted key path, empty for the root table. `table`
-  // must outlive the reader. Throws JobError for the first unknown key.
+  // and `known_keys` (a static array in practice) must outlive the reader.
+  // Throws JobError for the first unknown key.
   TomlTableReader(const toml::table& table, std::string table_path, std::string file,
                   std::span<const std::string_view> known_keys);
 
