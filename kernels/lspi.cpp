@@ -198,6 +198,15 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
   SymmetricSolver symmetric(options.solver_settings);
   NonsymmetricSolver nonsymmetric(options.solver_settings);
 
+  // The states whose greedy action matters to the fit: those the samples start
+  // from or bootstrap from. Elsewhere (e.g. goal states only entered terminally)
+  // Q is not constrained by data and its argmax may flip between near-equal values.
+  std::vector<std::uint8_t> on_samples(num_states, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    on_samples[static_cast<std::size_t>(samples.states[i])] = 1;
+    if (!samples.terminals[i]) on_samples[static_cast<std::size_t>(samples.next_states[i])] = 1;
+  }
+
   LspiResult result;
   std::vector<std::int32_t> policy(num_states, 0);  // greedy for w = 0
   std::vector<std::int64_t> next_rows(n);
@@ -236,7 +245,9 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
 
     std::vector<std::int32_t> improved = greedy_policy(features, num_actions, w);
     std::int32_t changes = 0;
-    for (std::size_t s = 0; s < num_states; ++s) changes += improved[s] != policy[s] ? 1 : 0;
+    for (std::size_t s = 0; s < num_states; ++s) {
+      changes += (on_samples[s] && improved[s] != policy[s]) ? 1 : 0;
+    }
     result.history.push_back(
         {changes, report.relative_residual, report.rcond, report.reused_analysis});
     result.weights = std::move(w);

@@ -10,8 +10,9 @@
 //   LSTD-Q  (Phi^T W (Phi - gamma Phi') + lambda I) w = Phi^T W r   (UMFPACK)
 // Policy improvement, Eq. (6): pi(s) = argmax_a Q(s, a), ties to the lowest action.
 // The first policy is the greedy policy of w = 0, i.e. action 0 everywhere.
-// Iteration stops when the greedy policy over all table states stops changing, or
-// after max_iterations evaluations.
+// Iteration stops when the greedy action stops changing on every sample state (a
+// state some sample starts from or bootstraps from), or after max_iterations
+// evaluations. The returned policy covers all table states.
 //
 // Thread-safety: fit_lspi is reentrant; distinct calls may run in parallel.
 
@@ -45,7 +46,7 @@ const char* to_string(LspiStatus status);
 const char* to_string(LspiSolver solver);
 
 struct LspiIteration {
-  std::int32_t policy_changes = 0;  // states whose greedy action changed after this evaluation
+  std::int32_t policy_changes = 0;  // sample states whose greedy action changed after this evaluation
   double relative_residual = 0.0;
   double rcond = 0.0;
   bool reused_analysis = false;
