@@ -84,6 +84,8 @@ TEST(ShortestPaths, BitIdenticalAcrossThreadCounts) {
   const CsrGraph g = random_graph(2000, 6000, true, 11);
   std::vector<std::int32_t> sources;
   for (std::int32_t s = 0; s < g.num_nodes; s += 17) sources.push_back(s);
+  // Lift oneTBB's default worker limit (cores - 1) so the arenas really get their threads.
+  tbb::global_control allow(tbb::global_control::max_allowed_parallelism, 8);
   auto run_with = [&](int threads) {
     tbb::task_arena arena(threads);
     RowMatrixXd d;
