@@ -11,7 +11,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libcli11-dev librandom123-dev
   libopenmpi-dev openmpi-bin
-  python3-h5py python3-matplotlib python3-numpy
+  libboost-dev
+  python3-h5py python3-matplotlib python3-numpy python3-scipy
 )
 
 missing=()

@@ -1,0 +1,70 @@
+// Peer comparison: Boost.Graph's dijkstra_shortest_paths (a field-standard
+// implementation) on the same grid graphs and sources as dijkstra_benchmark's
+// BM_GeodesicDistances with one thread. Args: rows, cols, sources.
+
+#include <boost/graph/compressed_sparse_row_graph.hpp>
+#include <boost/graph/dijkstra_shortest_paths.hpp>
+#include <boost/property_map/property_map.hpp>
+
+#include <utility>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "bench/grid_graphs.hpp"
+
+namespace ggk::bench {
+namespace {
+
+struct EdgeWeight {
+  double weight;
+};
+using BoostGraph =
+    boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, EdgeWeight>;
+
+BoostGraph to_boost(const kernels::CsrGraph& graph) {
+  std::vector<std::pair<std::int32_t, std::int32_t>> arcs;
+  std::vector<EdgeWeight> weights;
+  for (std::int32_t u = 0; u < graph.num_nodes; ++u) {
+    for (std::int64_t a = graph.indptr[u]; a < graph.indptr[u + 1]; ++a) {
+      arcs.emplace_back(u, graph.indices[a]);
+      weights.push_back({graph.weights[a]});
+    }
+  }
+  return BoostGraph(boost::edges_are_sorted, arcs.begin(), arcs.end(), weights.begin(),
+                    static_cast<std::size_t>(graph.num_nodes));
+}
+
+void BM_BoostGraphDijkstra(benchmark::State& state) {
+  const auto rows = static_cast<std::int32_t>(state.range(0));
+  const auto cols = static_cast<std::int32_t>(state.range(1));
+  const auto p = static_cast<std::int32_t>(state.range(2));
+  const kernels::CsrGraph csr = grid_graph(rows, cols);
+  const BoostGraph graph = to_boost(csr);
+  const std::vector<std::int32_t> sources = spread_sources(csr.num_nodes, p);
+  std::vector<double> distances(static_cast<std::size_t>(csr.num_nodes));
+  for (auto _ : state) {
+    for (std::int32_t source : sources) {
+      boost::dijkstra_shortest_paths(
+          graph, static_cast<std::size_t>(source),
+          boost::distance_map(boost::make_iterator_property_map(
+                                  distances.begin(), boost::get(boost::vertex_index, graph)))
+              .weight_map(boost::get(&EdgeWeight::weight, graph)));
+      benchmark::DoNotOptimize(distances.data());
+    }
+  }
+  state.counters["settled/s"] = benchmark::Counter(static_cast<double>(csr.num_nodes) * p,
+                                                   benchmark::Counter::kIsIterationInvariantRate);
+}
+
+BENCHMARK(BM_BoostGraphDijkstra)
+    ->ArgNames({"rows", "cols", "p"})
+    ->Args({37, 72, 100})
+    ->Args({360, 360, 16})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+}  // namespace ggk::bench
+
+BENCHMARK_MAIN();
