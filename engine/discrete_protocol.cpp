@@ -125,25 +125,19 @@ struct RunContext {
   std::vector<double> nearest_distance;
 };
 
-// Greedy roll-outs from every start state: steps to a goal, or -1.
-std::vector<double> test_policy(const RunContext& ctx, const std::vector<std::int32_t>& policy,
-                                kernels::RandomStream& random) {
-  std::vector<double> steps_to_goal;
-  steps_to_goal.reserve(ctx.env->start_states.size());
-  for (std::int32_t start : ctx.env->start_states) {
-    std::int32_t state = start;
-    double reached = -1.0;
-    for (std::int32_t step = 1; step <= ctx.protocol->test_max_steps; ++step) {
-      const Transition t = ctx.env->step(state, policy[static_cast<std::size_t>(state)], random);
-      if (t.terminal) {
-        reached = step;
-        break;
-      }
-      state = t.next_state;
-    }
-    steps_to_goal.push_back(reached);
+// One greedy roll-out: the states visited (start first) and the steps taken to
+// reach a goal, or -1 when none was reached within test_max_steps.
+double roll_out(const RunContext& ctx, const std::vector<std::int32_t>& policy, std::int32_t start,
+                kernels::RandomStream& random, std::vector<std::int32_t>* trajectory) {
+  std::int32_t state = start;
+  if (trajectory) trajectory->push_back(state);
+  for (std::int32_t step = 1; step <= ctx.protocol->test_max_steps; ++step) {
+    const Transition t = ctx.env->step(state, policy[static_cast<std::size_t>(state)], random);
+    if (trajectory) trajectory->push_back(t.next_state);
+    if (t.terminal) return step;
+    state = t.next_state;
   }
-  return steps_to_goal;
+  return -1.0;
 }
 
 FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
@@ -151,18 +145,28 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   FitRecord fit;
   fit.point = point;
   const auto& names = discrete_metric_names();
-  auto set_metrics = [&](double success, double mean_steps, double iterations) {
+  // Named starts add success_from_<name> and steps_from_<name>; without a
+  // policy (invalid or failed fit) every metric but the graph size is NaN.
+  auto set_metrics = [&](double success, double mean_steps, double iterations,
+                         const std::vector<double>& named_steps) {
     fit.metrics = {{names[0], success},
                    {names[1], mean_steps},
                    {names[2], iterations},
                    {names[3], static_cast<double>(ctx.graph_nodes)}};
+    for (std::size_t i = 0; i < ctx.env->named_starts.size(); ++i) {
+      const std::string& name = ctx.env->named_starts[i].first;
+      const double steps = i < named_steps.size() ? named_steps[i] : kNaN;
+      fit.metrics.emplace_back("success_from_" + name,
+                               std::isnan(steps) ? kNaN : (steps >= 0 ? 1.0 : 0.0));
+      fit.metrics.emplace_back("steps_from_" + name, steps >= 0 ? steps : kNaN);
+    }
   };
   if (point.kernels > ctx.graph_nodes) {
     fit.status = "invalid";
     fit.message = "run " + std::to_string(ctx.run) + ": " + std::to_string(point.kernels) +
                   " kernels requested but the sample graph has only " +
                   std::to_string(ctx.graph_nodes) + " nodes";
-    set_metrics(kNaN, kNaN, 0.0);
+    set_metrics(kNaN, kNaN, 0.0, {});
     return fit;
   }
   const DiscreteEnvironment& env = *ctx.env;
@@ -197,21 +201,31 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   fit.message = fit.lspi.message;
 
   if (fit.lspi.weights.size() == 0) {
-    set_metrics(kNaN, kNaN, 0.0);
+    set_metrics(kNaN, kNaN, 0.0, {});
   } else {
     kernels::RandomStream random = stream_for(ctx.job->seed, ctx.run, Purpose::evaluation,
                                               static_cast<std::uint32_t>(point.index));
-    const std::vector<double> steps = test_policy(ctx, fit.lspi.policy, random);
+    std::vector<double> steps;
+    steps.reserve(env.start_states.size());
     double successes = 0.0, step_sum = 0.0;
-    for (double s : steps) {
-      if (s >= 0) {
+    for (std::int32_t start : env.start_states) {
+      steps.push_back(roll_out(ctx, fit.lspi.policy, start, random, nullptr));
+      if (steps.back() >= 0) {
         successes += 1.0;
-        step_sum += s;
+        step_sum += steps.back();
       }
+    }
+    std::vector<double> named_steps;
+    for (const auto& [name, start] : env.named_starts) {
+      std::vector<std::int32_t> trajectory;
+      named_steps.push_back(roll_out(ctx, fit.lspi.policy, start, random, &trajectory));
+      fit.arrays.push_back({"trajectory_" + name,
+                            {static_cast<std::int64_t>(trajectory.size())},
+                            std::vector<double>(trajectory.begin(), trajectory.end())});
     }
     set_metrics(successes / static_cast<double>(steps.size()),
                 successes > 0 ? step_sum / successes : kNaN,
-                static_cast<double>(fit.lspi.iterations()));
+                static_cast<double>(fit.lspi.iterations()), named_steps);
     fit.arrays.push_back({"steps_to_goal", {static_cast<std::int64_t>(steps.size())}, steps});
     const Eigen::VectorXd values =
         kernels::state_values(features, env.num_actions, fit.lspi.weights);

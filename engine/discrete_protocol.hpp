@@ -13,6 +13,8 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/job_spec.hpp"
@@ -36,6 +38,9 @@ struct DiscreteEnvironment {
   kernels::RowMatrixXd state_vectors;      // num_states x d, for Euclidean distances
   std::vector<std::int32_t> goal_states;   // sorted
   std::vector<std::int32_t> start_states;  // series and tests start here (non-goal states)
+  // Start states with a name (the arm's "A"): each adds the metrics
+  // success_from_<name>, steps_from_<name> and the array trajectory_<name>.
+  std::vector<std::pair<std::string, std::int32_t>> named_starts;
   std::function<Transition(std::int32_t state, std::int32_t action, kernels::RandomStream&)> step;
 };
 
@@ -45,7 +50,8 @@ struct DiscreteProtocol {
   std::int32_t test_max_steps = 100;  // greedy steps allowed to reach a goal
 };
 
-// Per-fit metrics of this protocol, in summary-column order.
+// Per-fit metrics of this protocol, in summary-column order; the metrics of the
+// named starts follow them.
 inline const std::vector<std::string>& discrete_metric_names() {
   static const std::vector<std::string> names = {"success_rate", "mean_steps_to_goal",
                                                  "lspi_iterations", "graph_nodes"};
