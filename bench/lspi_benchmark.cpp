@@ -1,7 +1,8 @@
-// One LSPI fit with 6,400 distinct weighted samples and k = 400 basis functions:
-// a 40 x 40 grid world (1,600 states x 4 actions, one deterministic successor per
-// pair, random counts as weights), 100 geodesic Gaussian centres (sigma 5,
-// truncated at 1e-3), shift basis, goal in one corner.
+// One LSPI fit with 6,400 distinct weighted samples: a 40 x 40 grid world (1,600
+// states x 4 actions, one deterministic successor per pair, random counts as
+// weights), p geodesic Gaussian centres (sigma 5), shift basis, goal in one corner.
+// Cases: k = 400 (p = 100) with kernels truncated at 1e-3, as the foundations issue
+// asks, and k = 800 (p = 200) untruncated, the arm's largest fit.
 // Also times the feature construction on its own.
 
 #include <algorithm>
@@ -20,9 +21,7 @@ namespace {
 
 constexpr std::int32_t kSide = 40;
 constexpr std::int32_t kActions = 4;
-constexpr std::int32_t kCenters = 100;
 constexpr double kSigma = 5.0;
-constexpr double kTruncation = 1e-3;
 
 struct GridProblem {
   kernels::SampleBatch samples;
@@ -30,7 +29,7 @@ struct GridProblem {
   std::vector<std::int32_t> centers;
 };
 
-GridProblem make_problem() {
+GridProblem make_problem(std::int32_t num_centers) {
   GridProblem problem;
   problem.graph = grid_graph(kSide, kSide);
   kernels::RandomStream rng(7, 0, 0);
@@ -46,15 +45,15 @@ GridProblem make_problem() {
                           static_cast<double>(1 + rng.uniform_index(40)));
     }
   }
-  problem.centers = spread_sources(problem.graph.num_nodes, kCenters);
+  problem.centers = spread_sources(problem.graph.num_nodes, num_centers);
   return problem;
 }
 
-kernels::SparseRowMatrix make_features(const GridProblem& problem) {
+kernels::SparseRowMatrix make_features(const GridProblem& problem, double truncation) {
   const kernels::RowMatrixXd distances =
       kernels::geodesic_distances(problem.graph, problem.centers);
   const kernels::SparseRowMatrix state_kernels =
-      kernels::geodesic_gaussian_kernels(distances, kSigma, kTruncation);
+      kernels::geodesic_gaussian_kernels(distances, kSigma, truncation);
   const kernels::EmpiricalTransitionModel model(
       problem.graph.num_nodes, kActions, problem.samples.states, problem.samples.actions,
       problem.samples.next_states, problem.samples.weights);
@@ -62,17 +61,19 @@ kernels::SparseRowMatrix make_features(const GridProblem& problem) {
 }
 
 void BM_BuildFeatures(benchmark::State& state) {
-  const GridProblem problem = make_problem();
+  const GridProblem problem = make_problem(100);
   for (auto _ : state) {
-    kernels::SparseRowMatrix features = make_features(problem);
+    kernels::SparseRowMatrix features = make_features(problem, 1e-3);
     benchmark::DoNotOptimize(features.valuePtr());
   }
 }
 BENCHMARK(BM_BuildFeatures)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_FitLspi(benchmark::State& state) {
-  const GridProblem problem = make_problem();
-  const kernels::SparseRowMatrix features = make_features(problem);
+  // Args: solver (0 BRM, 1 LSTD-Q), centres p (k = 4 p), truncation x 1e6.
+  const GridProblem problem = make_problem(static_cast<std::int32_t>(state.range(1)));
+  const kernels::SparseRowMatrix features =
+      make_features(problem, static_cast<double>(state.range(2)) * 1e-6);
   kernels::LspiOptions options;
   options.solver = state.range(0) == 0 ? kernels::LspiSolver::brm : kernels::LspiSolver::lstdq;
   options.ridge = 1e-6;
@@ -90,9 +91,11 @@ void BM_FitLspi(benchmark::State& state) {
   state.SetLabel(options.solver == kernels::LspiSolver::brm ? "brm" : "lstdq");
 }
 BENCHMARK(BM_FitLspi)
-    ->ArgName("solver")
-    ->Arg(0)
-    ->Arg(1)
+    ->ArgNames({"solver", "p", "truncation_e6"})
+    ->Args({0, 100, 1000})  // the issue's case: k = 400, truncated kernels
+    ->Args({1, 100, 1000})
+    ->Args({0, 200, 0})  // the arm's largest case: k = 800, untruncated
+    ->Args({1, 200, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

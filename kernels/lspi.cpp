@@ -82,18 +82,32 @@ SparseColMatrix assemble_system(const SparseRowMatrix& left, const SparseRowMatr
   // Row i adds the outer product left_i^T right_i: A(q, p) += left(i, q) right(i, p),
   // column p of the buffer gathers A(., p). Rows are visited in sample order, so
   // the sums are deterministic.
+  // Kernel features come in contiguous runs of columns (one per action block), so
+  // each scatter is done as vectorised axpys over the runs of the left row.
   Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(k, k);
+  std::vector<std::int32_t> run_end;  // per stored entry of the left row: end of its run
+  const std::int32_t* l_index = left.innerIndexPtr();
+  const double* l_value = left.valuePtr();
   for (Eigen::Index i = 0; i < left.rows(); ++i) {
     const std::int32_t l_begin = left.outerIndexPtr()[i], l_end = left.outerIndexPtr()[i + 1];
     const std::int32_t r_begin = right.outerIndexPtr()[i], r_end = right.outerIndexPtr()[i + 1];
+    run_end.resize(static_cast<std::size_t>(l_end - l_begin));
+    for (std::int32_t e = l_end - 1; e >= l_begin; --e) {
+      const bool continues = e + 1 < l_end && l_index[e + 1] == l_index[e] + 1;
+      run_end[static_cast<std::size_t>(e - l_begin)] =
+          continues ? run_end[static_cast<std::size_t>(e + 1 - l_begin)] : e + 1;
+    }
     for (std::int32_t rp = r_begin; rp < r_end; ++rp) {
       const std::int32_t p = right.innerIndexPtr()[rp];
       const double v = right.valuePtr()[rp];
       double* column = dense.col(p).data();
       // Lower triangle (left == right, indices sorted): rows q >= p start at rp.
-      const std::int32_t first = triangle == Triangle::lower ? rp : l_begin;
-      for (std::int32_t lq = first; lq < l_end; ++lq) {
-        column[left.innerIndexPtr()[lq]] += left.valuePtr()[lq] * v;
+      std::int32_t lq = triangle == Triangle::lower ? rp : l_begin;
+      while (lq < l_end) {
+        const std::int32_t end = run_end[static_cast<std::size_t>(lq - l_begin)];
+        Eigen::Map<Eigen::VectorXd>(column + l_index[lq], end - lq) +=
+            v * Eigen::Map<const Eigen::VectorXd>(l_value + lq, end - lq);
+        lq = end;
       }
     }
   }
