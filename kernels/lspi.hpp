@@ -46,7 +46,8 @@ const char* to_string(LspiStatus status);
 const char* to_string(LspiSolver solver);
 
 struct LspiIteration {
-  std::int32_t policy_changes = 0;  // sample states whose greedy action changed after this evaluation
+  std::int32_t policy_changes =
+      0;  // sample states whose greedy action changed after this evaluation
   double relative_residual = 0.0;
   double rcond = 0.0;
   bool reused_analysis = false;
