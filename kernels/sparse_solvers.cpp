@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include <Eigen/CholmodSupport>
@@ -12,7 +13,9 @@ namespace ggk::kernels {
 namespace {
 
 // Eigen's wrappers keep the factor and the solver's info array protected; these
-// subclasses expose the reciprocal condition estimates and nothing else.
+// subclasses expose the reciprocal condition estimates and give both solvers one
+// interface for solve_with(): analyse(A), factorise(A) -> failure message (empty
+// on success), rcond(), apply(A, v) = A v.
 class CholmodFactorization : public Eigen::CholmodDecomposition<SparseColMatrix, Eigen::Lower> {
  public:
   CholmodFactorization() {
@@ -23,13 +26,38 @@ class CholmodFactorization : public Eigen::CholmodDecomposition<SparseColMatrix,
     cholmod().final_asis = 0;
     cholmod().final_ll = 1;
   }
+  bool analyse(const SparseColMatrix& a) {
+    analyzePattern(a);
+    return true;
+  }
+  std::string factorise(const SparseColMatrix& a) {
+    factorize(a);
+    if (info() == Eigen::Success) return {};
+    std::ostringstream message;
+    message << "CHOLMOD: matrix is not positive definite (failed at column "
+            << m_cholmodFactor->minor << " of " << a.rows() << ")";
+    return message.str();
+  }
   double rcond() { return cholmod_rcond(m_cholmodFactor, &cholmod()); }
-  std::int64_t failed_column() const { return static_cast<std::int64_t>(m_cholmodFactor->minor); }
+  static Eigen::VectorXd apply(const SparseColMatrix& a, const Eigen::VectorXd& v) {
+    return a.selfadjointView<Eigen::Lower>() * v;
+  }
 };
 
 class UmfpackFactorization : public Eigen::UmfPackLU<SparseColMatrix> {
  public:
+  bool analyse(const SparseColMatrix& a) {
+    analyzePattern(a);
+    return info() == Eigen::Success;
+  }
+  std::string factorise(const SparseColMatrix& a) {
+    factorize(a);
+    if (info() == Eigen::Success) return {};
+    return "UMFPACK: matrix is singular (status " + std::to_string(umfpackFactorizeReturncode()) +
+           ")";
+  }
   double rcond() const { return m_umfpackInfo(UMFPACK_RCOND); }
+  static Eigen::VectorXd apply(const SparseColMatrix& a, const Eigen::VectorXd& v) { return a * v; }
 };
 
 // The sparsity pattern of the last analysed matrix.
@@ -74,26 +102,48 @@ bool check_input(const SparseColMatrix& a, const Eigen::VectorXd& b, SolveReport
   return true;
 }
 
-// Shared tail of both solvers: conditioning, finiteness and residual checks.
-template <typename Apply>
-void check_solution(double min_rcond, const Eigen::VectorXd& b, const Eigen::VectorXd& candidate,
-                    Apply apply_a, SolveReport& report, Eigen::VectorXd& x) {
+// The one solve path of both solvers: reuse the analysis while the pattern holds,
+// factorise, then check conditioning, finiteness and the residual. x is written
+// only when every check passes.
+template <typename Factorization>
+SolveReport solve_with(Factorization& factorization, Pattern& pattern, double min_rcond,
+                       const SparseColMatrix& a, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  SolveReport report;
+  if (!check_input(a, b, report)) return report;
+  if (pattern.matches(a)) {
+    report.reused_analysis = true;
+  } else {
+    if (!factorization.analyse(a)) {
+      report.message = "symbolic analysis failed";
+      pattern = Pattern{};
+      return report;
+    }
+    pattern.remember(a);
+  }
+  report.message = factorization.factorise(a);
+  if (!report.message.empty()) {
+    pattern = Pattern{};  // the factor is unusable; analyse afresh next time
+    return report;
+  }
+  report.rcond = factorization.rcond();
   if (!(report.rcond >= min_rcond)) {
     std::ostringstream message;
     message << "ill-conditioned system: reciprocal condition estimate " << report.rcond
             << " < min_rcond " << min_rcond;
     report.message = message.str();
-    return;
+    return report;
   }
+  const Eigen::VectorXd candidate = factorization.solve(b);
   if (!candidate.allFinite()) {
     report.message = "solution has non-finite entries";
-    return;
+    return report;
   }
   const double b_norm = b.norm();
-  const Eigen::VectorXd residual = apply_a(candidate) - b;
+  const Eigen::VectorXd residual = Factorization::apply(a, candidate) - b;
   report.relative_residual = b_norm > 0.0 ? residual.norm() / b_norm : residual.norm();
   report.ok = true;
   x = candidate;
+  return report;
 }
 
 }  // namespace
@@ -113,33 +163,7 @@ SymmetricSolver& SymmetricSolver::operator=(SymmetricSolver&&) noexcept = defaul
 
 SolveReport SymmetricSolver::solve(const SparseColMatrix& a, const Eigen::VectorXd& b,
                                    Eigen::VectorXd& x) {
-  SolveReport report;
-  if (!check_input(a, b, report)) return report;
-  if (impl_->pattern.matches(a)) {
-    report.reused_analysis = true;
-  } else {
-    impl_->factorization.analyzePattern(a);
-    impl_->pattern.remember(a);
-  }
-  impl_->factorization.factorize(a);
-  if (impl_->factorization.info() != Eigen::Success) {
-    std::ostringstream message;
-    message << "CHOLMOD: matrix is not positive definite (failed at column "
-            << impl_->factorization.failed_column() << " of " << a.rows() << ")";
-    report.message = message.str();
-    // The factor is unusable; analyse afresh next time.
-    impl_->pattern = Pattern{};
-    return report;
-  }
-  report.rcond = impl_->factorization.rcond();
-  const Eigen::VectorXd candidate = impl_->factorization.solve(b);
-  check_solution(
-      impl_->settings.min_rcond, b, candidate,
-      [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
-        return a.selfadjointView<Eigen::Lower>() * v;
-      },
-      report, x);
-  return report;
+  return solve_with(impl_->factorization, impl_->pattern, impl_->settings.min_rcond, a, b, x);
 }
 
 struct NonsymmetricSolver::Impl {
@@ -157,34 +181,7 @@ NonsymmetricSolver& NonsymmetricSolver::operator=(NonsymmetricSolver&&) noexcept
 
 SolveReport NonsymmetricSolver::solve(const SparseColMatrix& a, const Eigen::VectorXd& b,
                                       Eigen::VectorXd& x) {
-  SolveReport report;
-  if (!check_input(a, b, report)) return report;
-  if (impl_->pattern.matches(a)) {
-    report.reused_analysis = true;
-  } else {
-    impl_->factorization.analyzePattern(a);
-    if (impl_->factorization.info() != Eigen::Success) {
-      report.message = "UMFPACK: symbolic analysis failed";
-      impl_->pattern = Pattern{};
-      return report;
-    }
-    impl_->pattern.remember(a);
-  }
-  impl_->factorization.factorize(a);
-  report.rcond = impl_->factorization.rcond();
-  if (impl_->factorization.info() != Eigen::Success) {
-    std::ostringstream message;
-    message << "UMFPACK: matrix is singular (status "
-            << impl_->factorization.umfpackFactorizeReturncode() << ")";
-    report.message = message.str();
-    impl_->pattern = Pattern{};
-    return report;
-  }
-  const Eigen::VectorXd candidate = impl_->factorization.solve(b);
-  check_solution(
-      impl_->settings.min_rcond, b, candidate,
-      [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return a * v; }, report, x);
-  return report;
+  return solve_with(impl_->factorization, impl_->pattern, impl_->settings.min_rcond, a, b, x);
 }
 
 }  // namespace ggk::kernels
