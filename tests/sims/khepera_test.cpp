@@ -1,0 +1,632 @@
+#include "sims/khepera/khepera.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
+
+namespace ggk::sims::khepera {
+namespace {
+
+using kernels::RandomStream;
+
+constexpr double kPi = std::numbers::pi;
+
+// F of DESIGN.md sec. 3 written out with the default constants.
+double hand_f(double x) {
+  if (x > 10.0) return 0.0;
+  return 1200.0 * (7.0 - 0.81) / (x * x + 1.8 * x + 7.0);
+}
+
+// A config whose arena has only the given obstacles (no box walls), noise off.
+KheperaConfig open_config(std::vector<Shape> obstacles, Pose start = {50.0, 50.0, 0.0}) {
+  KheperaConfig config;
+  config.arena.walled = false;
+  config.arena.obstacles = std::move(obstacles);
+  config.arena.start = start;
+  config.sensors.noise_sd = 0.0;
+  config.motion.wheel_noise = 0.0;
+  return config;
+}
+
+// A vertical wall x = 60 from y = 0 to y = 100.
+const Shape kWallAt60 = Segment{{60.0, 0.0}, {60.0, 100.0}};
+
+// Distance from `origin` along the ray of angle `angle` to the line x = wall_x,
+// or +infinity when the ray points away or the hit lies beyond 10 cm.
+double hand_distance_to_vertical_wall(double origin_x, double angle, double wall_x) {
+  const double c = std::cos(angle);
+  if (c <= 0.0) return kNoHit;
+  const double d = (wall_x - origin_x) / c;
+  return d <= 10.0 ? d : kNoHit;
+}
+
+TEST(KheperaSensorModel, ResponseFunctionMatchesTheFormula) {
+  const IrResponse f{SensorModel{}};
+  for (double x : {0.0, 0.3, 1.0, 2.5, 5.0, 9.99, 10.0}) EXPECT_NEAR(f(x), hand_f(x), 1e-9) << x;
+  EXPECT_NEAR(f(0.0), 1061.142857142857, 1e-9);
+  EXPECT_NEAR(f(10.0), 59.424, 1e-9);
+  EXPECT_EQ(f(10.000001), 0.0);
+  EXPECT_EQ(f(kNoHit), 0.0);
+  // A flat wall faced squarely: the side rays' excess cancels exactly.
+  const double d = 4.0;
+  const double oblique = d / std::cos(15.0 * kPi / 180.0);
+  EXPECT_NEAR(f.reading(oblique, d, oblique), hand_f(d), 1e-9);
+  // Side rays alone add; a centre ray alone is over-corrected.
+  EXPECT_NEAR(f.reading(3.0, kNoHit, kNoHit), hand_f(3.0), 1e-12);
+  EXPECT_LT(f.reading(kNoHit, 3.0, kNoHit), 0.0);
+}
+
+TEST(KheperaSensors, FacingAWallMatchesHandComputedReadings) {
+  // Robot at (x, 50) facing +x towards the wall x = 60; every sensor's three rays
+  // meet the wall line (if at all) at (60 - mount_x) / cos(angle).
+  const Khepera robot(open_config({kWallAt60}, {40.0, 50.0, 0.0}));
+  const double side = 15.0 * kPi / 180.0;
+  for (double gap : {1.0, 2.0, 3.5, 6.0, 9.0, 9.8, 10.0, 10.5, 14.0}) {
+    // gap = distance from the front sensors s2, s3 (x = 1.6) to the wall.
+    const Pose pose{60.0 - 1.6 - gap, 50.0, 0.0};
+    ASSERT_FALSE(robot.collides(pose)) << gap;
+    const Readings readings = robot.sense_noiseless(pose);
+    for (std::size_t i = 0; i < kKheperaSensors.size(); ++i) {
+      const IrSensor& s = kKheperaSensors[i];
+      const double heading = s.heading_deg * kPi / 180.0;
+      const double mount_x = pose.x + s.x;
+      const double left = hand_distance_to_vertical_wall(mount_x, heading + side, 60.0);
+      const double centre = hand_distance_to_vertical_wall(mount_x, heading, 60.0);
+      const double right = hand_distance_to_vertical_wall(mount_x, heading - side, 60.0);
+      const double expected = std::clamp(
+          hand_f(left) + hand_f(centre) + hand_f(right) - 2.0 * hand_f(centre / std::cos(side)),
+          0.0, 1023.0);
+      EXPECT_NEAR(readings[i], expected, 1e-9) << "gap " << gap << " sensor " << i;
+      const SensorRays rays = robot.sensor_rays(pose, static_cast<std::int32_t>(i));
+      if (std::isinf(centre)) {
+        EXPECT_TRUE(std::isinf(rays.centre));
+      } else {
+        EXPECT_NEAR(rays.centre, centre, 1e-9);
+      }
+    }
+    // The front sensors face the wall squarely and read exactly F(gap).
+    EXPECT_NEAR(readings[2], gap <= 10.0 ? hand_f(gap) : 0.0, 1e-9) << gap;
+    EXPECT_NEAR(readings[3], readings[2], 1e-9);
+    // The back sensors look away.
+    EXPECT_EQ(readings[6], 0.0);
+    EXPECT_EQ(readings[7], 0.0);
+  }
+  // Spot values, from the formula by hand: F(1) = 7428 / 9.8, F(3.5) = 7428 / 25.55.
+  EXPECT_NEAR(robot.sense_noiseless({57.4, 50.0, 0.0})[2], 7428.0 / 9.8, 1e-9);
+  EXPECT_NEAR(robot.sense_noiseless({54.9, 50.0, 0.0})[2], 7428.0 / 25.55, 1e-9);
+  // s1 (45 degrees) sees the wall at 1.3 cm nearer mount x, through three oblique rays.
+  const double g = 60.0 - (54.9 + 1.3);
+  const double expected_s1 = hand_f(g / std::cos(60.0 * kPi / 180.0)) +
+                             hand_f(g / std::cos(45.0 * kPi / 180.0)) +
+                             hand_f(g / std::cos(30.0 * kPi / 180.0)) -
+                             2.0 * hand_f(g / std::cos(45.0 * kPi / 180.0) / std::cos(side));
+  EXPECT_NEAR(robot.sense_noiseless({54.9, 50.0, 0.0})[1], expected_s1, 1e-9);
+  EXPECT_GT(expected_s1, 0.0);
+}
+
+TEST(KheperaSensors, ReadingsAreClampedToTheSensorRange) {
+  KheperaConfig config = open_config({kWallAt60});
+  config.sensors.max_reading = 500.0;
+  const Khepera robot(config);
+  const Readings near = robot.sense_noiseless({57.4, 50.0, 0.0});
+  EXPECT_EQ(near[2], 500.0);  // F(1) = 758 before clamping
+  // A post seen only by the centre ray is over-corrected below 0 and clamped.
+  const Khepera post(open_config({Disc{{55.0, 50.6}, 0.1}}, {40.0, 50.0, 0.0}));
+  const Pose facing{55.0 - 0.1 - 3.0 - 1.6, 50.0, 0.0};
+  EXPECT_NEAR(post.sensor_rays(facing, 2).centre, 3.0, 1e-9);
+  EXPECT_TRUE(std::isinf(post.sensor_rays(facing, 2).left));
+  EXPECT_EQ(post.sense_noiseless(facing)[2], 0.0);
+  // With noise, readings stay in [0, 1023] and far from anything often hit 0.
+  KheperaConfig noisy = open_config({});
+  noisy.sensors.noise_sd = 20.0;
+  const Khepera lonely(noisy);
+  RandomStream random(3, 0, 0);
+  std::int32_t zeros = 0;
+  for (int t = 0; t < 1000; ++t) {
+    for (double r : lonely.sense({50.0, 50.0, 0.0}, random)) {
+      EXPECT_GE(r, 0.0);
+      EXPECT_LE(r, 1023.0);
+      zeros += r == 0.0;
+    }
+  }
+  EXPECT_NEAR(zeros / 8000.0, 0.5, 0.03);  // half of N(0, 20) is clamped to 0
+}
+
+TEST(KheperaSensors, BeyondRangeReadsZero) {
+  const Khepera robot(open_config({kWallAt60}));
+  const Readings far = robot.sense_noiseless({60.0 - 1.6 - 10.01, 50.0, 0.0});
+  for (double r : far) EXPECT_EQ(r, 0.0);
+  const Readings edge = robot.sense_noiseless({60.0 - 1.6 - 9.99, 50.0, 0.0});
+  EXPECT_NEAR(edge[2], hand_f(9.99), 1e-9);
+  EXPECT_GT(edge[2], 50.0);
+  // An empty world reads 0 everywhere, facing anywhere.
+  const Khepera empty(open_config({}));
+  for (double heading : {-3.0, -1.0, 0.0, 0.5, 2.0})
+    for (double r : empty.sense_noiseless({30.0, 70.0, heading})) EXPECT_EQ(r, 0.0);
+}
+
+TEST(KheperaSensors, NoReadingThroughWalls) {
+  // A disc 1 cm behind the wall x = 60, right in front of s2 and s3.
+  const Shape disc_behind = Disc{{64.0, 50.0}, 3.0};
+  const Khepera walled(open_config({kWallAt60, disc_behind}));
+  const Khepera wall_only(open_config({kWallAt60}));
+  const Khepera disc_only(open_config({disc_behind}));
+  for (double gap : {1.0, 3.0, 6.0}) {
+    const Pose pose{60.0 - 1.6 - gap, 50.0, 0.0};
+    EXPECT_EQ(walled.sense_noiseless(pose), wall_only.sense_noiseless(pose)) << gap;
+    // Without the wall the disc is in range and reads differently.
+    EXPECT_NE(disc_only.sense_noiseless(pose), wall_only.sense_noiseless(pose)) << gap;
+  }
+  // The same through a box's edge: an obstacle inside a rectangle is invisible.
+  const Shape box = Rectangle{{60.0, 40.0}, {70.0, 60.0}};
+  const Khepera boxed(open_config({box, Disc{{61.0, 50.0}, 0.5}}));
+  const Khepera box_only(open_config({box}));
+  EXPECT_EQ(boxed.sense_noiseless({55.0, 50.0, 0.0}), box_only.sense_noiseless({55.0, 50.0, 0.0}));
+}
+
+// `shape` turned by `angle` (radians) about `pivot`.
+Point2 turn(Point2 p, Point2 pivot, double angle) {
+  return pivot + rotated(p - pivot, std::cos(angle), std::sin(angle));
+}
+Shape turn(const Shape& shape, Point2 pivot, double angle) {
+  if (const auto* s = std::get_if<Segment>(&shape))
+    return Segment{turn(s->a, pivot, angle), turn(s->b, pivot, angle)};
+  if (const auto* d = std::get_if<Disc>(&shape))
+    return Disc{turn(d->center, pivot, angle), d->radius};
+  if (const auto* r = std::get_if<Rectangle>(&shape))
+    return RotatedRectangle{turn(0.5 * (r->min + r->max), pivot, angle), r->max.x - r->min.x,
+                            r->max.y - r->min.y, angle * 180.0 / kPi};
+  const auto& q = std::get<RotatedRectangle>(shape);
+  return RotatedRectangle{turn(q.center, pivot, angle), q.width, q.height,
+                          q.angle_deg + angle * 180.0 / kPi};
+}
+
+TEST(KheperaSensors, RotatingRobotAndWorldTogetherKeepsTheReadings) {
+  const std::vector<Shape> shapes = {Segment{{10.0, 10.0}, {90.0, 10.0}},
+                                     Segment{{90.0, 10.0}, {90.0, 90.0}},
+                                     Segment{{90.0, 90.0}, {10.0, 90.0}},
+                                     Segment{{10.0, 90.0}, {10.0, 10.0}},
+                                     Rectangle{{30.0, 30.0}, {42.0, 38.0}},
+                                     RotatedRectangle{{65.0, 40.0}, 14.0, 4.0, 25.0},
+                                     Disc{{50.0, 65.0}, 6.0},
+                                     Segment{{20.0, 70.0}, {35.0, 60.0}}};
+  const Point2 pivot{50.0, 50.0};
+  const Khepera original(open_config(shapes));
+  RandomStream random(11, 0, 0);
+  for (double angle : {0.37, kPi / 2.0, 2.0, -2.9}) {
+    std::vector<Shape> turned;
+    for (const Shape& s : shapes) turned.push_back(turn(s, pivot, angle));
+    const Khepera rotated_robot(open_config(turned, {pivot.x, pivot.y, 0.0}));
+    std::int32_t seen = 0;
+    for (int i = 0; i < 300; ++i) {
+      const Pose pose{random.uniform(12.0, 88.0), random.uniform(12.0, 88.0),
+                      random.uniform(-kPi, kPi)};
+      if (original.collides(pose)) continue;
+      const Point2 centre = turn({pose.x, pose.y}, pivot, angle);
+      const Pose turned_pose{centre.x, centre.y, wrap_angle(pose.heading + angle)};
+      ASSERT_FALSE(rotated_robot.collides(turned_pose));
+      const Readings a = original.sense_noiseless(pose);
+      const Readings b = rotated_robot.sense_noiseless(turned_pose);
+      for (std::size_t k = 0; k < a.size(); ++k) EXPECT_NEAR(a[k], b[k], 1e-7) << i << " " << k;
+      for (double r : a) seen += r > 0.0;
+    }
+    EXPECT_GT(seen, 100);  // the poses do see the obstacles
+  }
+}
+
+TEST(KheperaWorld, RayDistancesToEachShape) {
+  Arena arena;
+  arena.walled = false;
+  arena.obstacles = {Segment{{10.0, 0.0}, {10.0, 20.0}}, Rectangle{{20.0, 40.0}, {30.0, 50.0}},
+                     RotatedRectangle{{70.0, 70.0}, 10.0, 10.0, 45.0}, Disc{{50.0, 20.0}, 2.0}};
+  const World world(arena, 10.0);
+  EXPECT_EQ(world.num_segments(), 1 + 4 + 4);
+  EXPECT_EQ(world.num_discs(), 1);
+  EXPECT_EQ(world.num_boxes(), 2);
+  EXPECT_NEAR(world.ray_distance({5.0, 10.0}, {1.0, 0.0}, 10.0), 5.0, 1e-12);
+  EXPECT_EQ(world.ray_distance({5.0, 10.0}, {-1.0, 0.0}, 10.0), kNoHit);
+  EXPECT_EQ(world.ray_distance({5.0, 25.0}, {1.0, 0.0}, 10.0), kNoHit);   // passes the end
+  EXPECT_EQ(world.ray_distance({-6.0, 10.0}, {1.0, 0.0}, 10.0), kNoHit);  // beyond range
+  EXPECT_NEAR(world.ray_distance({-6.0, 10.0}, {1.0, 0.0}, 16.0), 16.0, 1e-12);
+  EXPECT_NEAR(world.ray_distance({25.0, 35.0}, {0.0, 1.0}, 10.0), 5.0, 1e-12);
+  const double s = std::sqrt(0.5);
+  // The rotated square's corner points at -x, at x = 70 - 5 sqrt(2); 0.5 above the
+  // corner its upper-left face lies 0.5 further right.
+  EXPECT_NEAR(world.ray_distance({60.0, 70.5}, {1.0, 0.0}, 10.0), 10.5 - 5.0 * std::sqrt(2.0),
+              1e-9);
+  // Its face towards (-1, -1) / sqrt(2) lies 5 from its centre.
+  EXPECT_NEAR(world.ray_distance({64.0, 64.0}, {s, s}, 10.0), std::sqrt(72.0) - 5.0, 1e-9);
+  EXPECT_NEAR(world.ray_distance({50.0, 14.0}, {0.0, 1.0}, 10.0), 4.0, 1e-12);
+  EXPECT_EQ(world.ray_distance({50.0, 14.0}, {0.0, -1.0}, 10.0), kNoHit);
+  EXPECT_NEAR(world.ray_distance({50.0, 20.0}, {0.0, 1.0}, 10.0), 2.0, 1e-12);  // from inside
+  // Tangent-ish miss and a chord: from (46, 21) along +x the disc spans x = 50 -+ sqrt(3).
+  EXPECT_NEAR(world.ray_distance({46.0, 21.0}, {1.0, 0.0}, 10.0), 4.0 - std::sqrt(3.0), 1e-12);
+  EXPECT_EQ(world.ray_distance({46.0, 22.5}, {1.0, 0.0}, 10.0), kNoHit);
+}
+
+TEST(KheperaWorld, DiscOverlapOfEachShape) {
+  Arena arena;
+  arena.obstacles = {Segment{{10.0, 10.0}, {10.0, 20.0}}, Rectangle{{20.0, 40.0}, {30.0, 50.0}},
+                     Disc{{50.0, 20.0}, 2.0}};
+  const World world(arena, 10.0);
+  EXPECT_TRUE(world.disc_overlaps({12.0, 15.0}, 2.6));
+  EXPECT_FALSE(world.disc_overlaps({12.5, 15.0}, 2.5));  // touching is allowed
+  EXPECT_TRUE(world.disc_overlaps({12.5, 15.0}, 2.5000001));
+  EXPECT_TRUE(world.disc_overlaps({10.0, 22.5}, 2.6));  // past the segment's end
+  EXPECT_FALSE(world.disc_overlaps({10.0, 22.7}, 2.6));
+  EXPECT_TRUE(world.disc_overlaps({25.0, 45.0}, 2.6));  // deep inside the box
+  EXPECT_TRUE(world.disc_overlaps({31.0, 45.0}, 2.6));
+  EXPECT_FALSE(world.disc_overlaps({32.0, 52.0}, 2.8));  // the corner is 2 sqrt(2) away
+  EXPECT_TRUE(world.disc_overlaps({32.0, 52.0}, 2.9));
+  EXPECT_TRUE(world.disc_overlaps({54.5, 20.0}, 2.6));
+  EXPECT_FALSE(world.disc_overlaps({54.7, 20.0}, 2.6));
+  EXPECT_TRUE(world.disc_overlaps({1.0, 50.0}, 2.6));  // the box wall x = 0
+  EXPECT_FALSE(world.disc_overlaps({3.0, 50.0}, 2.6));
+}
+
+TEST(KheperaWorld, GridGivesTheSameAnswersAsTestingEverything) {
+  // reach 10 builds a fine grid; reach 1000 one cell listing everything.
+  Arena arena;
+  arena.obstacles = {Rectangle{{12.0, 10.0}, {26.0, 22.0}}, Disc{{38.0, 18.0}, 4.0},
+                     RotatedRectangle{{54.0, 63.0}, 22.0, 5.0, 30.0},
+                     Segment{{80.0, 18.0}, {64.0, 18.0}}, Disc{{62.0, 38.0}, 7.0}};
+  arena.max = {80.0, 80.0};
+  const World fine(arena, 10.0);
+  const World coarse(arena, 1000.0);
+  RandomStream random(5, 0, 0);
+  std::int32_t hits = 0;
+  std::int32_t overlaps = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Point2 origin{random.uniform(-1.0, 81.0), random.uniform(-1.0, 81.0)};
+    const double angle = random.uniform(-kPi, kPi);
+    const Point2 direction{std::cos(angle), std::sin(angle)};
+    const double range = random.uniform(0.0, 10.0);
+    const double d = fine.ray_distance(origin, direction, range);
+    EXPECT_EQ(d, coarse.ray_distance(origin, direction, range));
+    hits += d != kNoHit;
+    const double radius = random.uniform(0.0, 10.0);
+    const bool overlap = fine.disc_overlaps(origin, radius);
+    EXPECT_EQ(overlap, coarse.disc_overlaps(origin, radius));
+    overlaps += overlap;
+  }
+  EXPECT_GT(hits, 3000);
+  EXPECT_GT(overlaps, 3000);
+}
+
+TEST(KheperaMotion, ArcsMatchFineNumericalIntegration) {
+  const double b = 5.2;
+  const Pose start{10.0, -3.0, 2.5};
+  for (const WheelTravel travel :
+       {WheelTravel{1.5, 1.5}, WheelTravel{-1.5, -1.5}, WheelTravel{1.43, 1.57},
+        WheelTravel{-0.68, 0.68}, WheelTravel{0.7, -0.66}, WheelTravel{3.0, -1.0}}) {
+    // Euler with 10^5 sub-steps of the wheel speeds.
+    constexpr int kSteps = 100000;
+    Pose p = start;
+    for (int k = 0; k < kSteps; ++k) {
+      const double ds = 0.5 * (travel.left + travel.right) / kSteps;
+      const double dth = (travel.right - travel.left) / b / kSteps;
+      p.x += ds * std::cos(p.heading + 0.5 * dth);
+      p.y += ds * std::sin(p.heading + 0.5 * dth);
+      p.heading += dth;
+    }
+    const Pose exact = drive(start, travel, b);
+    EXPECT_NEAR(exact.x, p.x, 1e-9);
+    EXPECT_NEAR(exact.y, p.y, 1e-9);
+    EXPECT_NEAR(exact.heading, wrap_angle(p.heading), 1e-9);
+  }
+  // The documented commands: 1.5 cm ahead, 15 degrees on the spot.
+  const MotionModel motion;
+  const Pose ahead = drive(start, wheel_command(motion, b, kForward), b);
+  EXPECT_NEAR(std::hypot(ahead.x - start.x, ahead.y - start.y), 1.5, 1e-12);
+  EXPECT_EQ(ahead.heading, start.heading);
+  const Pose left = drive(start, wheel_command(motion, b, kRotateLeft), b);
+  EXPECT_NEAR(left.heading - start.heading, 15.0 * kPi / 180.0, 1e-12);
+  EXPECT_NEAR(left.x, start.x, 1e-12);
+  EXPECT_NEAR(left.y, start.y, 1e-12);
+  const Pose right = drive(start, wheel_command(motion, b, kRotateRight), b);
+  EXPECT_NEAR(right.heading - start.heading, -15.0 * kPi / 180.0, 1e-12);
+  EXPECT_NEAR(wrap_angle(kPi), -kPi, 0.0);
+  EXPECT_NEAR(wrap_angle(3.0 * kPi + 0.25), -kPi + 0.25, 1e-12);
+}
+
+TEST(KheperaStep, ForwardInFreeSpaceEarnsOneAndMovesAboutAStep) {
+  const Khepera robot{KheperaConfig{}};  // empty 1 m box, default noise
+  RandomStream random(1, 0, 0);
+  const Pose pose{50.0, 50.0, 0.7};
+  for (int i = 0; i < 200; ++i) {
+    const StepResult forward = robot.step(pose, kForward, random);
+    EXPECT_EQ(forward.reward, 1.0);
+    EXPECT_FALSE(forward.collided);
+    const double moved = std::hypot(forward.next_pose.x - pose.x, forward.next_pose.y - pose.y);
+    EXPECT_GE(moved, 1.5 * 0.95 - 1e-9);
+    EXPECT_LT(moved, 1.5 * 1.05);
+    // Ahead, give or take the curve of unequal wheels.
+    const double bearing = std::atan2(forward.next_pose.y - pose.y, forward.next_pose.x - pose.x);
+    EXPECT_LT(std::abs(bearing - pose.heading), 0.02);
+    for (double r : forward.observation) EXPECT_LE(r, 100.0);  // noise only
+
+    const StepResult back = robot.step(pose, kBackward, random);
+    EXPECT_EQ(back.reward, 0.0);
+    EXPECT_NEAR(std::hypot(back.next_pose.x - pose.x, back.next_pose.y - pose.y), 1.5, 0.08);
+    const StepResult left = robot.step(pose, kRotateLeft, random);
+    EXPECT_EQ(left.reward, 0.0);
+    EXPECT_NEAR(left.next_pose.heading - pose.heading, 15.0 * kPi / 180.0,
+                0.05 * 15.0 * kPi / 180.0);
+    EXPECT_LT(std::hypot(left.next_pose.x - pose.x, left.next_pose.y - pose.y), 0.05);
+    const StepResult right = robot.step(pose, kRotateRight, random);
+    EXPECT_EQ(right.reward, 0.0);
+    EXPECT_NEAR(right.next_pose.heading - pose.heading, -15.0 * kPi / 180.0,
+                0.05 * 15.0 * kPi / 180.0);
+  }
+  EXPECT_THROW(robot.step(pose, 4, random), std::out_of_range);
+  EXPECT_THROW(robot.step(pose, -1, random), std::out_of_range);
+  EXPECT_EQ(action_name(kForward), "forward");
+  EXPECT_EQ(action_name(kBackward), "backward");
+  EXPECT_THROW(action_name(7), std::out_of_range);
+}
+
+TEST(KheperaStep, AMoveIntoAWallIsUndoneAndCostsTwo) {
+  const Khepera robot(open_config({kWallAt60}, {40.0, 50.0, 0.0}));
+  RandomStream random(2, 0, 0);
+  // The body is 0.5 cm from the wall: a 1.5 cm step forward would overlap it.
+  const Pose facing{60.0 - 2.6 - 0.5, 50.0, 0.0};
+  const StepResult forward = robot.step(facing, kForward, random);
+  EXPECT_TRUE(forward.collided);
+  EXPECT_EQ(forward.reward, -2.0);
+  EXPECT_EQ(forward.next_pose, facing);
+  EXPECT_EQ(forward.observation, robot.sense_noiseless(facing));  // noise off
+  // Backing into it: the same.
+  const Pose backing{facing.x, facing.y, kPi - 1e-9};
+  const StepResult backward = robot.step(backing, kBackward, random);
+  EXPECT_TRUE(backward.collided);
+  EXPECT_EQ(backward.reward, -2.0);
+  EXPECT_EQ(backward.next_pose, backing);
+  // Turning on the spot and backing away are fine.
+  EXPECT_FALSE(robot.step(facing, kRotateLeft, random).collided);
+  const StepResult away = robot.step(facing, kBackward, random);
+  EXPECT_FALSE(away.collided);
+  EXPECT_EQ(away.reward, 0.0);
+  EXPECT_NEAR(away.next_pose.x, facing.x - 1.5, 1e-12);
+  // 1.6 cm of room: the step fits.
+  const StepResult fits = robot.step({60.0 - 2.6 - 1.6, 50.0, 0.0}, kForward, random);
+  EXPECT_FALSE(fits.collided);
+  EXPECT_EQ(fits.reward, 1.0);
+}
+
+TEST(KheperaStep, SubStepsCatchAGrazedCorner) {
+  // A thin post whose tip the body sweeps past mid-step but clears at both ends:
+  // the body at 1.5 cm ahead and at the start is 2.6 from the post, while the
+  // swept body passes it at 2.49.
+  const double lateral = 2.55;  // between sqrt(2.6^2 - 0.75^2) = 2.489 and 2.6
+  const Shape tip = Segment{{50.75, 50.0 + lateral}, {50.75, 60.0}};
+  KheperaConfig one = open_config({tip}, {40.0, 40.0, 0.0});
+  one.motion.collision_substeps = 1;
+  KheperaConfig four = open_config({tip}, {40.0, 40.0, 0.0});
+  RandomStream random(4, 0, 0);
+  const Pose pose{50.0, 50.0, 0.0};
+  EXPECT_FALSE(Khepera(one).step(pose, kForward, random).collided);
+  EXPECT_TRUE(Khepera(four).step(pose, kForward, random).collided);
+}
+
+TEST(KheperaStep, WheelFactorsAreTheStreamsUniformsInOrder) {
+  // Recover each wheel's travel from the pose change (exact inverse of drive) and
+  // compare with the factors the stream gives in the documented order.
+  KheperaConfig config;
+  config.sensors.noise_sd = 0.0;
+  const Khepera robot(config);
+  const double b = config.body.wheel_base;
+  RandomStream random(17, 3, 1);
+  RandomStream replay(17, 3, 1);
+  const Pose pose{50.0, 50.0, 0.3};
+  const std::int32_t n = 20000;
+  double sum[2] = {0.0, 0.0};
+  double sum_squares[2] = {0.0, 0.0};
+  double sum_product = 0.0;
+  for (std::int32_t i = 0; i < n; ++i) {
+    const std::int32_t action = i % kNumActions;
+    const StepResult result = robot.step(pose, action, random);
+    const WheelTravel command = wheel_command(config.motion, b, action);
+    const double turn = wrap_angle(result.next_pose.heading - pose.heading);
+    const double half = 0.5 * turn;
+    // drive() moves the centre distance * sin(h) / h along the mean heading.
+    const double along = (result.next_pose.x - pose.x) * std::cos(pose.heading + half) +
+                         (result.next_pose.y - pose.y) * std::sin(pose.heading + half);
+    const double distance = along / (half == 0.0 ? 1.0 : std::sin(half) / half);
+    const double left = distance - 0.5 * b * turn;
+    const double right = distance + 0.5 * b * turn;
+    const double factors[2] = {left / command.left, right / command.right};
+    EXPECT_NEAR(factors[0], replay.uniform(0.95, 1.05), 1e-6) << i;
+    EXPECT_NEAR(factors[1], replay.uniform(0.95, 1.05), 1e-6) << i;
+    for (int w = 0; w < 2; ++w) {
+      EXPECT_GE(factors[w], 0.95 - 1e-9);
+      EXPECT_LT(factors[w], 1.05 + 1e-9);
+      sum[w] += factors[w];
+      sum_squares[w] += factors[w] * factors[w];
+    }
+    sum_product += (factors[0] - 1.0) * (factors[1] - 1.0);
+  }
+  // U[0.95, 1.05): mean 1, variance 0.1^2 / 12; the wheels independent.
+  const double variance = 0.01 / 12.0;
+  for (int w = 0; w < 2; ++w) {
+    const double mean = sum[w] / n;
+    EXPECT_NEAR(mean, 1.0, 4.0 * std::sqrt(variance / n));
+    EXPECT_NEAR(sum_squares[w] / n - mean * mean, variance, 0.05 * variance);
+  }
+  EXPECT_NEAR(sum_product / n / variance, 0.0, 0.05);
+}
+
+// A random walk of `steps` random actions from a random free pose, all from one
+// stream; returns every step's result.
+std::vector<StepResult> random_walk(const Khepera& robot, RandomStream random, std::int32_t steps) {
+  std::vector<StepResult> results;
+  Pose pose = robot.sample_free_pose(random);
+  for (std::int32_t t = 0; t < steps; ++t) {
+    const auto action = static_cast<std::int32_t>(random.uniform_index(kNumActions));
+    results.push_back(robot.step(pose, action, random));
+    pose = results.back().next_pose;
+  }
+  return results;
+}
+
+KheperaConfig cluttered_config() {
+  KheperaConfig config;
+  config.arena.max = {60.0, 60.0};
+  config.arena.start = {5.0, 5.0, 0.0};
+  config.arena.obstacles = {Rectangle{{12.0, 10.0}, {26.0, 22.0}}, Disc{{38.0, 18.0}, 4.0},
+                            RotatedRectangle{{40.0, 45.0}, 22.0, 5.0, 30.0},
+                            Segment{{60.0, 30.0}, {45.0, 30.0}}};
+  return config;
+}
+
+void expect_same(const std::vector<StepResult>& a, const std::vector<StepResult>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t t = 0; t < a.size(); ++t) {
+    EXPECT_EQ(a[t].observation, b[t].observation) << t;
+    EXPECT_EQ(a[t].next_pose, b[t].next_pose) << t;
+    EXPECT_EQ(a[t].reward, b[t].reward) << t;
+    EXPECT_EQ(a[t].collided, b[t].collided) << t;
+  }
+}
+
+TEST(KheperaStep, AFixedStreamGivesTheSameWalk) {
+  const Khepera robot(cluttered_config());
+  const std::vector<StepResult> a = random_walk(robot, RandomStream(8, 1, 2), 2000);
+  const std::vector<StepResult> b = random_walk(robot, RandomStream(8, 1, 2), 2000);
+  expect_same(a, b);
+  const std::vector<StepResult> other = random_walk(robot, RandomStream(8, 2, 2), 2000);
+  EXPECT_NE(a.front().next_pose, other.front().next_pose);
+  std::int32_t collisions = 0;
+  for (const StepResult& r : a) {
+    collisions += r.collided;
+    EXPECT_FALSE(robot.collides(r.next_pose));
+  }
+  EXPECT_GT(collisions, 10);  // the walk does meet obstacles
+}
+
+TEST(KheperaStep, ParallelWalksEqualSequentialOnes) {
+  const Khepera robot(cluttered_config());
+  constexpr std::int32_t kWalks = 64;
+  std::vector<std::vector<StepResult>> sequential(kWalks);
+  for (std::int32_t i = 0; i < kWalks; ++i)
+    sequential[i] = random_walk(robot, RandomStream(99, static_cast<std::uint32_t>(i), 0), 300);
+  std::vector<std::vector<StepResult>> parallel(kWalks);
+  tbb::parallel_for(0, kWalks, [&](std::int32_t i) {
+    parallel[i] = random_walk(robot, RandomStream(99, static_cast<std::uint32_t>(i), 0), 300);
+  });
+  for (std::int32_t i = 0; i < kWalks; ++i) expect_same(sequential[i], parallel[i]);
+}
+
+TEST(KheperaStep, FreePosesAreUniformOverFreeSpace) {
+  const Khepera robot(cluttered_config());
+  RandomStream random(6, 0, 0);
+  RandomStream replay(6, 0, 0);
+  double heading_sum = 0.0;
+  std::int32_t left_half = 0;
+  const std::int32_t n = 5000;
+  for (std::int32_t i = 0; i < n; ++i) {
+    const Pose pose = robot.sample_free_pose(random);
+    EXPECT_FALSE(robot.collides(pose));
+    EXPECT_GE(pose.x, 0.0);
+    EXPECT_LT(pose.x, 60.0);
+    EXPECT_GE(pose.heading, -kPi);
+    EXPECT_LT(pose.heading, kPi);
+    heading_sum += pose.heading;
+    left_half += pose.x < 30.0;
+    EXPECT_EQ(pose, robot.sample_free_pose(replay));
+  }
+  EXPECT_NEAR(heading_sum / n, 0.0, 4.0 * kPi / std::sqrt(3.0 * n));
+  // By symmetry of rejection sampling: the share of the left half is the share of
+  // its free area, estimated on a fine grid.
+  std::int32_t free_left = 0;
+  std::int32_t free_all = 0;
+  for (double x = 0.05; x < 60.0; x += 0.1) {
+    for (double y = 0.05; y < 60.0; y += 0.1) {
+      if (robot.collides({x, y, 0.0})) continue;
+      ++free_all;
+      free_left += x < 30.0;
+    }
+  }
+  const double p = static_cast<double>(free_left) / free_all;
+  EXPECT_NEAR(static_cast<double>(left_half) / n, p, 4.0 * std::sqrt(p * (1 - p) / n));
+}
+
+KheperaConfigError config_error_of(const KheperaConfig& config) {
+  try {
+    Khepera robot(config);
+  } catch (const KheperaConfigError& error) {
+    return error;
+  }
+  ADD_FAILURE() << "expected a KheperaConfigError";
+  return KheperaConfigError(KheperaConfigField::protocol, -7, "none");
+}
+
+TEST(KheperaConfig, RejectsBadValuesNamingTheField) {
+  using F = KheperaConfigField;
+  const auto expect_field = [](const KheperaConfig& config, F field, std::int32_t index) {
+    const KheperaConfigError error = config_error_of(config);
+    EXPECT_EQ(error.field(), field) << error.what();
+    EXPECT_EQ(error.index(), index) << error.what();
+  };
+  EXPECT_NO_THROW(Khepera{KheperaConfig{}});
+  KheperaConfig c;
+  c.body.radius = 0.0;
+  expect_field(c, F::body, -1);
+  c = {};
+  c.body.wheel_base = std::nan("");
+  expect_field(c, F::body, -1);
+  c = {};
+  c.body.sensors[5].y = -2.7;
+  expect_field(c, F::sensors, 5);
+  c = {};
+  c.sensors.response_c = 0.5;  // < x0^2 = 0.81: F has a pole
+  expect_field(c, F::sensor_model, -1);
+  c = {};
+  c.sensors.side_ray_deg = 90.0;
+  expect_field(c, F::sensor_model, -1);
+  c = {};
+  c.sensors.noise_sd = -1.0;
+  expect_field(c, F::sensor_model, -1);
+  c = {};
+  c.motion.wheel_noise = 1.0;
+  expect_field(c, F::motion, -1);
+  c = {};
+  c.motion.collision_substeps = 0;
+  expect_field(c, F::motion, -1);
+  c = {};
+  c.rewards.collision = -std::numeric_limits<double>::infinity();
+  expect_field(c, F::rewards, -1);
+  c = {};
+  c.arena.max = {0.0, 100.0};
+  expect_field(c, F::arena_box, -1);
+  c = {};
+  c.arena.obstacles = {Disc{{10.0, 10.0}, 1.0}, Segment{{3.0, 3.0}, {3.0, 3.0}}};
+  expect_field(c, F::obstacles, 1);
+  c.arena.obstacles = {Rectangle{{10.0, 10.0}, {5.0, 20.0}}};
+  expect_field(c, F::obstacles, 0);
+  c.arena.obstacles = {RotatedRectangle{{10.0, 10.0}, 0.0, 2.0, 0.0}};
+  expect_field(c, F::obstacles, 0);
+  c = {};
+  c.arena.start = {120.0, 50.0, 0.0};
+  expect_field(c, F::start, -1);
+  c = {};
+  c.arena.obstacles = {Disc{{52.0, 50.0}, 1.0}};  // on the start pose
+  expect_field(c, F::start, -1);
+  c = {};
+  c.series = 0;
+  expect_field(c, F::protocol, -1);
+  c = {};
+  c.series = 100000;
+  c.steps_per_series = 100000;
+  expect_field(c, F::protocol, -1);
+}
+
+}  // namespace
+}  // namespace ggk::sims::khepera
