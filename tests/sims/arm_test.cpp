@@ -1,0 +1,333 @@
+#include "sims/arm/arm.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "sims/arm/arm_geometry.hpp"
+#include "sims/arm/collision.hpp"
+#include "sims/arm/kinematics.hpp"
+
+namespace ggk::sims::arm {
+namespace {
+
+constexpr double kTol = 1e-12;
+
+double deg(double degrees) {
+  return degrees * std::numbers::pi / 180.0;
+}
+
+void expect_point(const Point2& actual, double x, double y) {
+  EXPECT_NEAR(actual.x, x, kTol);
+  EXPECT_NEAR(actual.y, y, kTol);
+}
+
+TEST(ArmKinematics, HandComputedPoses) {
+  ArmGeometry geometry;
+  geometry.link1_length = 2.0;
+  geometry.link2_length = 1.0;
+  geometry.base = {1.0, 0.5};
+
+  ArmPose pose = forward_kinematics(geometry, 0.0, 0.0);  // stretched along +x
+  expect_point(pose.base, 1.0, 0.5);
+  expect_point(pose.elbow, 3.0, 0.5);
+  expect_point(pose.end_effector, 4.0, 0.5);
+
+  pose = forward_kinematics(geometry, 90.0, 0.0);  // straight up
+  expect_point(pose.elbow, 1.0, 2.5);
+  expect_point(pose.end_effector, 1.0, 3.5);
+
+  pose = forward_kinematics(geometry, 90.0, -90.0);  // up, forearm to the right
+  expect_point(pose.elbow, 1.0, 2.5);
+  expect_point(pose.end_effector, 2.0, 2.5);
+
+  pose = forward_kinematics(geometry, 180.0, -180.0);  // left, folded back to the right
+  expect_point(pose.elbow, -1.0, 0.5);
+  expect_point(pose.end_effector, 0.0, 0.5);
+
+  pose = forward_kinematics(geometry, 45.0, 90.0);
+  const double h = std::sqrt(0.5);
+  expect_point(pose.elbow, 1.0 + 2.0 * h, 0.5 + 2.0 * h);
+  expect_point(pose.end_effector, 1.0 + 2.0 * h - h, 0.5 + 2.0 * h + h);
+
+  pose = forward_kinematics(geometry, 30.0, -60.0);
+  expect_point(pose.elbow, 1.0 + 2.0 * std::cos(deg(30)), 0.5 + 2.0 * std::sin(deg(30)));
+  expect_point(pose.end_effector, pose.elbow.x + std::cos(deg(-30)),
+               pose.elbow.y + std::sin(deg(-30)));
+}
+
+TEST(ArmCollision, SegmentAgainstRectangle) {
+  const Rectangle box{{1.0, 1.0}, {2.0, 3.0}};
+  EXPECT_TRUE(segment_meets_rectangle({0.0, 2.0}, {3.0, 2.0}, box));   // straight through
+  EXPECT_TRUE(segment_meets_rectangle({1.5, 0.0}, {1.5, 1.0}, box));   // ends on the bottom edge
+  EXPECT_TRUE(segment_meets_rectangle({0.0, 0.0}, {1.0, 1.0}, box));   // ends on a corner
+  EXPECT_TRUE(segment_meets_rectangle({0.0, 4.0}, {4.0, 0.0}, box));   // crosses a corner region
+  EXPECT_TRUE(segment_meets_rectangle({1.2, 1.5}, {1.8, 2.5}, box));   // wholly inside
+  EXPECT_TRUE(segment_meets_rectangle({1.5, 2.0}, {5.0, 7.0}, box));   // starts inside
+  EXPECT_TRUE(segment_meets_rectangle({0.0, 3.0}, {3.0, 3.0}, box));   // along the top edge
+  EXPECT_TRUE(segment_meets_rectangle({1.5, 1.5}, {1.5, 1.5}, box));   // a point inside
+  EXPECT_FALSE(segment_meets_rectangle({0.0, 0.0}, {0.9, 0.9}, box));  // stops short
+  EXPECT_FALSE(segment_meets_rectangle({0.0, 3.5}, {3.0, 3.5}, box));  // parallel above
+  EXPECT_FALSE(segment_meets_rectangle({0.0, 2.5}, {1.0, 4.5}, box));  // passes the corner (1, 3)
+  EXPECT_FALSE(segment_meets_rectangle({2.5, 0.0}, {2.5, 4.0}, box));  // parallel, right of it
+  EXPECT_FALSE(segment_meets_rectangle({0.5, 0.5}, {0.5, 0.5}, box));  // a point outside
+  // The segment's line meets the box, the segment does not.
+  EXPECT_FALSE(segment_meets_rectangle({3.0, 2.0}, {4.0, 2.0}, box));
+}
+
+TEST(ArmCollision, SegmentAgainstDisc) {
+  const Disc disc{{0.0, 0.0}, 1.0};
+  EXPECT_TRUE(segment_meets_disc({-2.0, 0.0}, {2.0, 0.0}, disc));     // through the centre
+  EXPECT_TRUE(segment_meets_disc({-2.0, 1.0}, {2.0, 1.0}, disc));     // tangent at (0, 1)
+  EXPECT_TRUE(segment_meets_disc({0.2, 0.2}, {0.3, -0.1}, disc));     // inside
+  EXPECT_TRUE(segment_meets_disc({0.5, 0.0}, {5.0, 5.0}, disc));      // starts inside
+  EXPECT_TRUE(segment_meets_disc({1.0, 0.0}, {3.0, 0.0}, disc));      // starts on the boundary
+  EXPECT_FALSE(segment_meets_disc({-2.0, 1.01}, {2.0, 1.01}, disc));  // just above
+  // Nearest point of the line is (0, 0.5), but the segment ends at x = 1.5.
+  EXPECT_FALSE(segment_meets_disc({1.5, 0.5}, {3.0, 0.5}, disc));
+  // Diagonal passing at distance sqrt(2) - 0.5 * sqrt(2) = 0.707 < 1 vs one at 1.06.
+  EXPECT_TRUE(segment_meets_disc({1.0, 0.0}, {0.0, 1.0}, disc));
+  EXPECT_FALSE(segment_meets_disc({1.5, 0.0}, {0.0, 1.5}, disc));
+  EXPECT_TRUE(segment_meets_disc({0.6, 0.6}, {0.6, 0.6}, disc));   // a point inside
+  EXPECT_FALSE(segment_meets_disc({0.8, 0.8}, {0.8, 0.8}, disc));  // a point outside
+}
+
+TEST(ArmCollision, EitherLinkCollidesAndTheEndEffectorTouchesTheObject) {
+  ArmGeometry geometry;  // links 1 and 1 from the origin
+  geometry.object = {{1.0, 1.0}, 0.1};
+  // Straight up: link 1 from (0, 0) to (0, 1), link 2 from (0, 1) to (0, 2).
+  const ArmPose up = forward_kinematics(geometry, 90.0, 0.0);
+  EXPECT_FALSE(arm_collides(geometry, up));
+
+  geometry.obstacles = {Rectangle{{-0.1, 0.4}, {0.1, 0.6}}};  // across link 1
+  EXPECT_TRUE(arm_collides(geometry, up));
+  geometry.obstacles = {Disc{{0.05, 1.5}, 0.1}};  // across link 2
+  EXPECT_TRUE(arm_collides(geometry, up));
+  geometry.obstacles = {Disc{{0.5, 1.5}, 0.1}, Rectangle{{-1.0, 2.1}, {1.0, 3.0}}};  // beside
+  EXPECT_FALSE(arm_collides(geometry, up));
+  EXPECT_FALSE(touches_object(geometry, up));
+
+  // Up, forearm to the right: the end effector is at (1, 1), the object's centre.
+  const ArmPose reach = forward_kinematics(geometry, 90.0, -90.0);
+  EXPECT_TRUE(touches_object(geometry, reach));
+  geometry.object = {{1.25, 1.0}, 0.25};  // on its boundary (exact in binary)
+  EXPECT_TRUE(touches_object(geometry, reach));
+  geometry.object = {{1.26, 1.0}, 0.25};
+  EXPECT_FALSE(touches_object(geometry, reach));
+  // The object is no obstacle: link 2 may sweep over it.
+  geometry.obstacles.clear();
+  geometry.object = {{0.5, 1.0}, 0.1};
+  EXPECT_FALSE(arm_collides(geometry, reach));
+}
+
+TEST(ArmGeometry, RejectsBadValues) {
+  const auto field_of = [](const ArmGeometry& geometry) {
+    try {
+      check_geometry(geometry);
+    } catch (const ArmConfigError& error) {
+      return std::make_pair(error.field(), error.index());
+    }
+    ADD_FAILURE() << "expected an ArmConfigError";
+    return std::make_pair(ArmConfigField::base, -2);
+  };
+  ArmGeometry good;
+  good.obstacles = {Disc{{3.0, 0.0}, 0.5}, Rectangle{{-1.0, -1.0}, {1.0, -0.5}}};
+  EXPECT_NO_THROW(check_geometry(good));
+
+  ArmGeometry bad = good;
+  bad.link2_length = 0.0;
+  EXPECT_EQ(field_of(bad), std::make_pair(ArmConfigField::links, -1));
+  bad = good;
+  bad.base.y = std::nan("");
+  EXPECT_EQ(field_of(bad), std::make_pair(ArmConfigField::base, -1));
+  bad = good;
+  bad.obstacles[1] = Rectangle{{-1.0, -1.0}, {1.0, -1.5}};
+  EXPECT_EQ(field_of(bad), std::make_pair(ArmConfigField::obstacles, 1));
+  bad = good;
+  bad.obstacles[0] = Disc{{3.0, 0.0}, -0.5};
+  EXPECT_EQ(field_of(bad), std::make_pair(ArmConfigField::obstacles, 0));
+  bad = good;
+  bad.object.radius = 0.0;
+  EXPECT_EQ(field_of(bad), std::make_pair(ArmConfigField::object, -1));
+}
+
+// A 5 x 5 grid (shoulder 0..20, elbow -10..10) with unit links from the origin:
+// a tiny disc on the middle of link 1 at shoulder 10 blocks that whole row (at
+// shoulder 5 or 15 link 1 passes it at 0.5 sin 5 deg = 0.044), and a tiny object
+// at the end effector of (20, 0) makes that pose the only goal ((15, 10) points
+// the same way but reaches 2 cos 5 deg, 0.0076 short).
+ArmConfig small_config() {
+  ArmConfig config;
+  config.limits = {0, 20, -10, 10};
+  config.geometry.obstacles = {Disc{{0.5 * std::cos(deg(10)), 0.5 * std::sin(deg(10))}, 0.01}};
+  config.geometry.object = {{2.0 * std::cos(deg(20)), 2.0 * std::sin(deg(20))}, 0.005};
+  config.start_A = {0, -10};
+  return config;
+}
+
+TEST(Arm, NumbersFreeCellsRowMajor) {
+  const Arm arm(small_config());
+  EXPECT_EQ(arm.shoulder_steps(), 5);
+  EXPECT_EQ(arm.elbow_steps(), 5);
+  EXPECT_EQ(arm.num_actions(), 4);
+  ASSERT_EQ(arm.num_states(), 20);
+  EXPECT_EQ(arm.state_of(0, 0), 0);
+  EXPECT_EQ(arm.state_of(1, 4), 9);
+  EXPECT_EQ(arm.state_of(2, 0), kNoState);  // shoulder 10 collides
+  EXPECT_EQ(arm.state_of(2, 4), kNoState);
+  EXPECT_EQ(arm.state_of(3, 0), 10);
+  EXPECT_EQ(arm.state_of(4, 2), 17);
+  EXPECT_EQ(arm.state_of(-1, 0), kNoState);
+  EXPECT_EQ(arm.state_of(0, 5), kNoState);
+  EXPECT_TRUE(arm.collides(2, 3));
+  EXPECT_FALSE(arm.collides(3, 3));
+  EXPECT_THROW(arm.collides(5, 0), std::out_of_range);
+
+  EXPECT_EQ(arm.cell_of(11), (GridCell{3, 1}));
+  EXPECT_EQ(arm.angles_of(11), (JointAngles{15, -5}));
+  EXPECT_EQ(arm.angles_of(0), (JointAngles{0, -10}));
+  EXPECT_THROW(arm.cell_of(20), std::out_of_range);
+  EXPECT_THROW(arm.angles_of(-1), std::out_of_range);
+
+  // State vectors are the angles in grid units (degrees / 5).
+  EXPECT_EQ(arm.state_vector(11), (std::array<double, 2>{3.0, -1.0}));
+  const kernels::RowMatrixXd vectors = arm.state_vectors();
+  ASSERT_EQ(vectors.rows(), 20);
+  ASSERT_EQ(vectors.cols(), 2);
+  for (std::int32_t s = 0; s < arm.num_states(); ++s) {
+    const JointAngles angles = arm.angles_of(s);
+    EXPECT_EQ(vectors(s, 0), angles.shoulder_deg / 5.0);
+    EXPECT_EQ(vectors(s, 1), angles.elbow_deg / 5.0);
+  }
+
+  EXPECT_EQ(arm.goal_states(), std::vector<std::int32_t>{17});
+  EXPECT_TRUE(arm.is_goal(17));
+  EXPECT_FALSE(arm.is_goal(16));
+  EXPECT_EQ(arm.start_state_A(), 0);
+  const ArmPose pose = arm.pose_of(17);
+  EXPECT_NEAR(pose.end_effector.x, 2.0 * std::cos(deg(20)), kTol);
+}
+
+TEST(Arm, BlockedAndLimitMovesStayPut) {
+  const Arm arm(small_config());
+  const std::int32_t corner = arm.state_of(0, 0);
+  EXPECT_EQ(arm.move(corner, kShoulderMinus), corner);  // shoulder limit 0
+  EXPECT_EQ(arm.move(corner, kElbowMinus), corner);     // elbow limit -10
+  EXPECT_EQ(arm.move(corner, kShoulderPlus), arm.state_of(1, 0));
+  EXPECT_EQ(arm.move(corner, kElbowPlus), arm.state_of(0, 1));
+  const std::int32_t top = arm.state_of(4, 4);
+  EXPECT_EQ(arm.move(top, kShoulderPlus), top);  // shoulder limit 20
+  EXPECT_EQ(arm.move(top, kElbowPlus), top);     // elbow limit 10
+  // Shoulder 5 -> 10 and 15 -> 10 collide.
+  const std::int32_t below = arm.state_of(1, 3);
+  const std::int32_t above = arm.state_of(3, 3);
+  const StepResult blocked = arm.step(below, kShoulderPlus);
+  EXPECT_EQ(blocked.next_state, below);
+  EXPECT_EQ(blocked.reward, 0.0);
+  EXPECT_FALSE(blocked.terminal);
+  EXPECT_EQ(arm.step(above, kShoulderMinus).next_state, above);
+  EXPECT_THROW(arm.step(below, 4), std::out_of_range);
+  EXPECT_THROW(arm.step(below, -1), std::out_of_range);
+  EXPECT_THROW(arm.step(20, kElbowPlus), std::out_of_range);
+}
+
+TEST(Arm, EnteringTheGoalPaysOneAndEndsTheEpisode) {
+  const Arm arm(small_config());
+  const std::int32_t goal = arm.state_of(4, 2);
+  for (const auto& [from, action] :
+       {std::pair{arm.state_of(4, 1), kElbowPlus}, std::pair{arm.state_of(4, 3), kElbowMinus},
+        std::pair{arm.state_of(3, 2), kShoulderPlus}}) {
+    const StepResult r = arm.step(from, action);
+    EXPECT_EQ(r.next_state, goal);
+    EXPECT_EQ(r.reward, 1.0);
+    EXPECT_TRUE(r.terminal);
+  }
+  const StepResult plain = arm.step(arm.state_of(3, 2), kElbowPlus);
+  EXPECT_EQ(plain.reward, 0.0);
+  EXPECT_FALSE(plain.terminal);
+  // From a goal (never a start in the protocol): terminal, no new reward.
+  const StepResult stay = arm.step(goal, kShoulderPlus);
+  EXPECT_EQ(stay.next_state, goal);
+  EXPECT_EQ(stay.reward, 0.0);
+  EXPECT_TRUE(stay.terminal);
+}
+
+TEST(Arm, GridMatchesDirectCollisionTests) {
+  ArmConfig config;  // the default 37 x 72 grid
+  config.geometry.obstacles = {Rectangle{{-3.0, -2.0}, {3.0, -0.1}}, Disc{{0.0, 1.6}, 0.3},
+                               Rectangle{{-1.6, -0.1}, {-0.9, 0.5}}};
+  config.geometry.object = {{1.25, 0.2}, 0.2};
+  config.start_A = {110, 0};
+  const Arm arm(config);
+  ASSERT_EQ(arm.shoulder_steps(), 37);
+  ASSERT_EQ(arm.elbow_steps(), 72);
+  std::int32_t expected_state = 0;
+  for (std::int32_t i = 0; i < 37; ++i) {
+    for (std::int32_t j = 0; j < 72; ++j) {
+      const ArmPose pose = forward_kinematics(config.geometry, 5.0 * i, -180.0 + 5.0 * j);
+      const bool collides = arm_collides(config.geometry, pose);
+      ASSERT_EQ(arm.collides(i, j), collides) << i << ", " << j;
+      if (collides) continue;
+      const std::int32_t s = arm.state_of(i, j);
+      ASSERT_EQ(s, expected_state++);
+      EXPECT_EQ(arm.is_goal(s), touches_object(config.geometry, pose));
+    }
+  }
+  EXPECT_EQ(arm.num_states(), expected_state);
+}
+
+// The field an invalid configuration is blamed on.
+ArmConfigField error_field(const ArmConfig& config) {
+  try {
+    const Arm arm(config);
+  } catch (const ArmConfigError& error) {
+    return error.field();
+  }
+  ADD_FAILURE() << "expected an ArmConfigError";
+  return ArmConfigField::links;
+}
+
+TEST(Arm, RejectsBadConfigurations) {
+  ArmConfig config = small_config();
+  config.limits.shoulder_max_deg = 22;
+  EXPECT_EQ(error_field(config), ArmConfigField::shoulder_limits);
+  config = small_config();
+  config.limits.elbow_min_deg = 20;
+  EXPECT_EQ(error_field(config), ArmConfigField::elbow_limits);
+  config = small_config();
+  config.limits.elbow_min_deg = -180;
+  config.limits.elbow_max_deg = 180;  // -180 and 180 would be one pose twice
+  EXPECT_EQ(error_field(config), ArmConfigField::elbow_limits);
+  config = small_config();
+  config.start_A = {10, 0};  // collides
+  EXPECT_EQ(error_field(config), ArmConfigField::start_A);
+  config.start_A = {20, 0};  // the goal
+  EXPECT_EQ(error_field(config), ArmConfigField::start_A);
+  config.start_A = {25, 0};  // past the limit
+  EXPECT_EQ(error_field(config), ArmConfigField::start_A);
+  config.start_A = {3, 0};  // off the grid
+  EXPECT_EQ(error_field(config), ArmConfigField::start_A);
+  config = small_config();
+  config.geometry.object.center.x += 0.1;
+  EXPECT_EQ(error_field(config), ArmConfigField::object);
+  config = small_config();
+  config.geometry.obstacles.push_back(Disc{{0.0, 0.0}, 0.1});  // around the base
+  EXPECT_EQ(error_field(config), ArmConfigField::obstacles);
+  config = small_config();
+  config.geometry.link1_length = -1.0;
+  EXPECT_EQ(error_field(config), ArmConfigField::links);
+}
+
+TEST(Arm, ActionNames) {
+  EXPECT_EQ(action_name(kShoulderPlus), "shoulder+");
+  EXPECT_EQ(action_name(kShoulderMinus), "shoulder-");
+  EXPECT_EQ(action_name(kElbowPlus), "elbow+");
+  EXPECT_EQ(action_name(kElbowMinus), "elbow-");
+  EXPECT_THROW(action_name(4), std::out_of_range);
+}
+
+}  // namespace
+}  // namespace ggk::sims::arm
