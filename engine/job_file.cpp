@@ -14,6 +14,7 @@
 
 #include <toml++/toml.h>
 
+#include "engine/arm_table.hpp"
 #include "engine/maze_table.hpp"
 #include "engine/toml_table_reader.hpp"
 
@@ -29,16 +30,20 @@ struct TaskTable {
   std::string_view name;
   TaskConfig (*parse)(const TomlTableReader& job, const std::filesystem::path& job_dir);
 };
-constexpr std::array<TaskTable, 1> kTaskTables = {{
+constexpr std::array<TaskTable, 2> kTaskTables = {{
     {"maze",
      [](const TomlTableReader& job, const std::filesystem::path& job_dir) -> TaskConfig {
        return parse_maze_table(job, job_dir);
      }},
+    {"arm",
+     [](const TomlTableReader& job, const std::filesystem::path&) -> TaskConfig {
+       return parse_arm_table(job);
+     }},
 }};
-constexpr std::array<std::string_view, 1> kTaskNames = {"maze"};
+constexpr std::array<std::string_view, 2> kTaskNames = {"maze", "arm"};
 
-constexpr std::array<std::string_view, 9> kTopLevelKeys = {
-    "name", "task", "runs", "seed", "sweep", "maze", "basis", "lspi", "output"};
+constexpr std::array<std::string_view, 10> kTopLevelKeys = {
+    "name", "task", "runs", "seed", "sweep", "maze", "arm", "basis", "lspi", "output"};
 constexpr std::array<std::string_view, 5> kSweepKeys = {"basis", "kernels", "sigma", "solver",
                                                         "lambda"};
 constexpr std::array<std::string_view, 2> kBasisKeys = {"scheme", "truncation"};

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <ctime>
 #include <memory>
+#include <stdexcept>
 #include <variant>
 #include <vector>
 
@@ -92,6 +93,8 @@ RunRecord compute_run(const JobSpec& job, std::int32_t run) {
         using Config = std::decay_t<decltype(config)>;
         if constexpr (std::is_same_v<Config, sims::maze::MazeConfig>) {
           return run_maze(config, job, run, points);
+        } else if constexpr (std::is_same_v<Config, sims::arm::ArmConfig>) {
+          throw std::logic_error("arm task protocol not implemented yet");
         }
       },
       job.task_config);

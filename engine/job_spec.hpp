@@ -16,6 +16,7 @@
 
 #include "kernels/lspi.hpp"
 #include "kernels/state_action_basis.hpp"
+#include "sims/arm/arm_config.hpp"
 #include "sims/maze/maze_config.hpp"
 
 namespace ggk::engine {
@@ -57,11 +58,11 @@ struct OutputSettings {
   bool store_matrices = false;   // write LSPI's A and b for every fit
 };
 
-using TaskConfig = std::variant<sims::maze::MazeConfig>;
+using TaskConfig = std::variant<sims::maze::MazeConfig, sims::arm::ArmConfig>;
 
 struct JobSpec {
   std::string name;  // [A-Za-z0-9_-]+
-  std::string task;  // "maze"; names the alternative held by task_config
+  std::string task;  // "maze" or "arm"; names the alternative held by task_config
   std::int32_t runs = 1;
   std::uint64_t seed = 0;
   SweepAxes sweep;
