@@ -851,6 +851,34 @@ void Hdf5File::remove(std::string_view path) {
   check(H5Ldelete(id_, name.c_str(), H5P_DEFAULT), where, "remove", name);
 }
 
+void Hdf5File::detach(std::string_view path) {
+  const std::string name = normalized(path, path_);
+  if (read_only_) throw_store_error(path_, name, "file is open read-only");
+  if (name == "/") throw_store_error(path_, name, "cannot detach the root group");
+  const Context where{id_, path_};
+  require_existing(where, name);
+  // One extra reference keeps the object alive when its link goes, so HDF5
+  // never walks (and never frees) what is below it. Only the object's own
+  // header is read.
+  const Handle object =
+      checked(H5Oopen(id_, name.c_str(), H5P_DEFAULT), H5Oclose, where, "open", name);
+  check(H5Oincr_refcount(object.get()), where, "detach", name);
+  check(H5Ldelete(id_, name.c_str(), H5P_DEFAULT), where, "detach", name);
+}
+
+void Hdf5File::move(std::string_view from, std::string_view to) {
+  const std::string source = normalized(from, path_);
+  const std::string target = normalized(to, path_);
+  if (read_only_) throw_store_error(path_, source, "file is open read-only");
+  if (source == "/") throw_store_error(path_, source, "cannot move the root group");
+  const Context where{id_, path_};
+  require_existing(where, source);
+  require_new_object(target);
+  const Handle lcpl = intermediate_groups_lcpl(where, target);
+  check(H5Lmove(id_, source.c_str(), id_, target.c_str(), lcpl.get(), H5P_DEFAULT), where,
+        "move " + in_quotes(source) + " to", target);
+}
+
 std::vector<std::int64_t> Hdf5File::dataset_shape(std::string_view path) const {
   const std::string name = normalized(path, path_);
   const Context where{id_, path_};
@@ -1214,12 +1242,10 @@ void Hdf5File::create_table(std::string_view path, std::span<const TableColumn> 
       checked(H5Screate_simple(1, dims, max_dims), H5Sclose, where, "create dataspace for", name);
   const Handle dcpl = make_property_list(H5P_DATASET_CREATE, where, name);
   const hsize_t chunk[1] = {static_cast<hsize_t>(chunk_rows)};
+  // No filters: appending to a compressed chunk rewrites the whole chunk in
+  // place, and a kill in the middle would destroy rows already flushed. An
+  // unfiltered chunk keeps its address and the bytes of earlier rows.
   check(H5Pset_chunk(dcpl.get(), 1, chunk), where, "set chunks of", name);
-  check(H5Pset_shuffle(dcpl.get()), where, "set shuffle filter of", name);
-  if (gzip_level_ > 0) {
-    check(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(gzip_level_)), where,
-          "set gzip filter of", name);
-  }
   const Handle lcpl = intermediate_groups_lcpl(where, name);
   checked(
       H5Dcreate2(id_, name.c_str(), type.get(), space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),

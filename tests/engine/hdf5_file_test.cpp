@@ -544,7 +544,43 @@ TEST_F(Hdf5FileTest, MovedFileKeepsWorking) {
   EXPECT_EQ(third.read_vector<double>("x"), std::vector<double>{1});
 }
 
-// A writer killed right after a flush leaves a file with everything flushed.
+// The commit protocol of the header: write a run under a staging path, flush,
+// move it to its final path, append its summary row, flush.
+void commit_run(Hdf5File& file, int run) {
+  const std::string staging = "/.staging/maze/run_" + std::to_string(run);
+  for (int part = 0; part < 4; ++part) {
+    file.write_vector(staging + "/samples/part_" + std::to_string(part),
+                      std::vector<double>(2000, run + 0.25 * part));
+  }
+  file.flush();
+  file.move(staging, "/maze/run_" + std::to_string(run));
+  const std::vector<TableRow> row = {summary_row(run)};
+  file.append_rows("/maze/summary", row);
+  file.flush();
+}
+
+// Every committed run is whole; rows appended after the last flush may or may
+// not have reached the disk, but every flushed row has.
+void expect_runs(const Hdf5File& file, int runs) {
+  for (int run = 0; run < runs; ++run) {
+    for (int part = 0; part < 4; ++part) {
+      EXPECT_EQ(file.read_vector<double>("/maze/run_" + std::to_string(run) + "/samples/part_" +
+                                         std::to_string(part)),
+                std::vector<double>(2000, run + 0.25 * part));
+    }
+  }
+  EXPECT_FALSE(file.exists("/maze/run_" + std::to_string(runs)));
+  const std::vector<TableRow> rows = file.read_table("/maze/summary");
+  ASSERT_GE(rows.size(), static_cast<std::size_t>(runs));
+  for (int run = 0; run < runs; ++run) EXPECT_EQ(rows[run], summary_row(run)) << "row " << run;
+  for (std::size_t r = runs; r < rows.size(); ++r) {  // a row of a run in flight at the kill
+    EXPECT_TRUE(rows[r] == summary_row(runs) || rows[r] == summary_row(runs - 1)) << "row " << r;
+  }
+}
+
+// A writer killed between flushes, in the middle of writing the next run,
+// leaves a file with every flushed run and summary row; resuming detaches the
+// staging leftovers and commits the lost run again.
 TEST_F(Hdf5FileTest, FlushedRunsSurviveKillMinus9) {
   const fs::path path = file_path();
   const pid_t child = ::fork();
@@ -553,15 +589,13 @@ TEST_F(Hdf5FileTest, FlushedRunsSurviveKillMinus9) {
     try {
       auto file = Hdf5File::create(path);
       file.write_string_attribute("/", "job", "name = \"maze\"");
-      file.create_table("/maze/summary", summary_columns());
-      for (int run = 0; run < 3; ++run) {
-        const std::string group = "/maze/run_00" + std::to_string(run);
-        file.write_vector(group + "/samples/rewards", std::vector<double>(1000, run));
-        file.write_int64_attribute(group, "complete", 1);
-        const std::vector<TableRow> row = {summary_row(run)};
-        file.append_rows("/maze/summary", row);
-        file.flush();
-      }
+      file.create_table("/maze/summary", summary_columns(), 4);
+      file.flush();
+      for (int run = 0; run < 6; ++run) commit_run(file, run);
+      // In flight: part of run 6 and a summary row (rewriting a flushed chunk).
+      file.write_vector("/.staging/maze/run_6/samples/part_0", std::vector<double>(2000, 6.0));
+      const std::vector<TableRow> row = {summary_row(6)};
+      file.append_rows("/maze/summary", row);
     } catch (...) {
       ::_exit(1);
     }
@@ -571,14 +605,52 @@ TEST_F(Hdf5FileTest, FlushedRunsSurviveKillMinus9) {
   ASSERT_EQ(::waitpid(child, &status, 0), child);
   ASSERT_TRUE(WIFSIGNALED(status)) << "child failed before the kill";
   ASSERT_EQ(WTERMSIG(status), SIGKILL);
-  const auto file = Hdf5File::open_read_only(path);
-  EXPECT_EQ(file.read_string_attribute("/", "job"), "name = \"maze\"");
-  for (int run = 0; run < 3; ++run) {
-    const std::string group = "/maze/run_00" + std::to_string(run);
-    EXPECT_EQ(file.read_vector<double>(group + "/samples/rewards"), std::vector<double>(1000, run));
-    EXPECT_EQ(file.read_int64_attribute(group, "complete"), 1);
+  {
+    const auto file = Hdf5File::open_read_only(path);
+    EXPECT_EQ(file.read_string_attribute("/", "job"), "name = \"maze\"");
+    expect_runs(file, 6);
   }
-  EXPECT_EQ(file.read_table("/maze/summary").size(), 3U);
+  {
+    auto file = Hdf5File::open_read_write(path);
+    if (file.exists("/.staging")) file.detach("/.staging");
+    commit_run(file, 6);
+  }
+  expect_runs(Hdf5File::open_read_only(path), 7);
+}
+
+TEST_F(Hdf5FileTest, MoveRenamesAndCreatesParents) {
+  auto file = Hdf5File::create(file_path());
+  file.write_vector("/.staging/run_000/samples/rewards", std::vector<double>{1.0, 2.0});
+  file.write_int64_attribute("/.staging/run_000", "seed", 5);
+  file.move("/.staging/run_000", "/maze/run_000");
+  EXPECT_FALSE(file.exists("/.staging/run_000"));
+  EXPECT_EQ(file.read_vector<double>("/maze/run_000/samples/rewards"),
+            (std::vector<double>{1.0, 2.0}));
+  EXPECT_EQ(file.read_int64_attribute("/maze/run_000", "seed"), 5);
+  file.write_vector("/.staging/run_001/x", std::vector<double>{});
+  EXPECT_TRUE(contains(error_message([&] { file.move("/.staging/run_001", "/maze/run_000"); }),
+                       "'/maze/run_000': already exists"));
+  EXPECT_TRUE(contains(error_message([&] { file.move("/nowhere", "/maze/run_009"); }),
+                       "'/nowhere': no such object"));
+  EXPECT_TRUE(file.exists("/.staging/run_001/x"));
+}
+
+TEST_F(Hdf5FileTest, DetachUnlinksWithoutTouchingWhatIsBelow) {
+  {
+    auto file = Hdf5File::create(file_path());
+    file.write_vector("/.staging/run_003/samples/rewards", std::vector<double>(100, 1.0));
+    file.write_vector("/maze/run_000/samples/rewards", std::vector<double>{7.0});
+    file.detach("/.staging/run_003");
+    EXPECT_FALSE(file.exists("/.staging/run_003"));
+    EXPECT_TRUE(file.exists("/.staging"));
+    file.write_vector("/.staging/run_003/samples/rewards", std::vector<double>{3.0});
+    EXPECT_THROW(file.detach("/"), std::runtime_error);
+    EXPECT_THROW(file.detach("/missing"), std::runtime_error);
+  }
+  const auto file = Hdf5File::open_read_only(file_path());
+  EXPECT_EQ(file.read_vector<double>("/.staging/run_003/samples/rewards"),
+            std::vector<double>{3.0});
+  EXPECT_EQ(file.read_vector<double>("/maze/run_000/samples/rewards"), std::vector<double>{7.0});
 }
 
 }  // namespace
