@@ -22,7 +22,7 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Uniformly random actions in `series` series from uniformly random start
-// states; a series restarts from a new random start after a terminal transition.
+// states; see DiscreteProtocol::walk_through_goals for what follows a goal.
 kernels::SampleBatch collect_samples(const DiscreteEnvironment& env,
                                      const DiscreteProtocol& protocol,
                                      kernels::RandomStream& random) {
@@ -39,7 +39,7 @@ kernels::SampleBatch collect_samples(const DiscreteEnvironment& env,
       const auto action = static_cast<std::int32_t>(random.uniform_index(env.num_actions));
       const Transition t = env.step(state, action, random);
       batch.add(state, action, t.reward, t.next_state, t.terminal);
-      state = t.terminal ? random_start() : t.next_state;
+      state = t.terminal && !protocol.walk_through_goals ? random_start() : t.next_state;
     }
   }
   return batch;

@@ -48,6 +48,11 @@ struct DiscreteProtocol {
   std::int32_t series = 1;            // random-walk series per run
   std::int32_t steps_per_series = 1;  // uniformly random actions per series
   std::int32_t test_max_steps = 100;  // greedy steps allowed to reach a goal
+  // false: a series restarts from a random start after entering a goal (maze).
+  // true: the walk goes on from the goal (its moves are sampled as terminal,
+  // reward-0 transitions), so every goal joins the graph and can be a centre, as
+  // the arm protocol of the paper needs (all 16 goals are centres).
+  bool walk_through_goals = false;
 };
 
 // Per-fit metrics of this protocol, in summary-column order; the metrics of the

@@ -12,6 +12,7 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include "engine/arm_task.hpp"
 #include "engine/maze_task.hpp"
 #include "engine/progress.hpp"
 #include "engine/run_store.hpp"
@@ -94,7 +95,7 @@ RunRecord compute_run(const JobSpec& job, std::int32_t run) {
         if constexpr (std::is_same_v<Config, sims::maze::MazeConfig>) {
           return run_maze(config, job, run, points);
         } else if constexpr (std::is_same_v<Config, sims::arm::ArmConfig>) {
-          throw std::logic_error("arm task protocol not implemented yet");
+          return run_arm(config, job, run, points);
         }
       },
       job.task_config);

@@ -1,0 +1,154 @@
+"""The robot-arm figures of the paper (sec. 4.1) from a ggk results file:
+
+  arm_state_space.png   Fig. 1(b): joint space, colliding poses, goals, start A
+  arm_values.png        Fig. 2: V(s) = max_a Q(s, a) for GGK and OGK (one run, one
+                        kernel count) with the greedy trajectory from A
+  arm_success.png       Fig. 3: success vs number of kernels, GGK vs OGK, 95 % CIs
+                        over runs (from A, and from every free pose)
+
+    /usr/bin/python3 results/plot_arm.py results/arm-paper.h5 results/figures [--kernels P] [--run R]
+"""
+
+import argparse
+import sys
+from pathlib import Path
+
+import h5py
+import matplotlib
+import numpy as np
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.colors import ListedColormap  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from ggk_results import curve, read_summary  # noqa: E402
+
+STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)")}
+
+
+def grid_axes(run_group):
+    """(state_of grid, shoulder angles, elbow angles) in degrees."""
+    state_of = run_group["grid/state_of"][:].astype(int)
+    nodes = run_group["graph/nodes"][:]
+    i, j = np.argwhere(state_of >= 0)[0]
+    s = state_of[i, j]
+    shoulder0 = 5 * nodes[s, 0] - 5 * i
+    elbow0 = 5 * nodes[s, 1] - 5 * j
+    shoulders = shoulder0 + 5 * np.arange(state_of.shape[0])
+    elbows = elbow0 + 5 * np.arange(state_of.shape[1])
+    return state_of, shoulders, elbows
+
+
+def on_grid(state_of, per_state):
+    grid = np.full(state_of.shape, np.nan)
+    free = state_of >= 0
+    grid[free] = per_state[state_of[free]]
+    return grid
+
+
+def trajectory_angles(nodes, trajectory):
+    states = np.asarray(trajectory, dtype=int)
+    return 5 * nodes[states, 1], 5 * nodes[states, 0]  # (elbow, shoulder)
+
+
+def extent(shoulders, elbows):
+    return [elbows[0] - 2.5, elbows[-1] + 2.5, shoulders[0] - 2.5, shoulders[-1] + 2.5]
+
+
+def fig_state_space(f, out):
+    run = f["arm/run_000"]
+    state_of, shoulders, elbows = grid_axes(run)
+    goal = run["grid/goal"][:] > 0
+    image = np.where(state_of < 0, 1, 0) + np.where(goal, 2, 0)
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    ax.imshow(image, origin="lower", extent=extent(shoulders, elbows), aspect="auto",
+              cmap=ListedColormap(["white", "0.45", "tab:orange"]), vmin=0, vmax=2,
+              interpolation="nearest")
+    first_fit = next(iter(run["fits/ggk"].values()))
+    if "trajectory_A" in first_fit:
+        nodes = run["graph/nodes"][:]
+        e, s = trajectory_angles(nodes, first_fit["trajectory_A"][:][:1])
+        ax.plot(e, s, "k*", markersize=14, label="start A")
+    ax.plot([], [], "s", color="0.45", label="collision")
+    ax.plot([], [], "s", color="tab:orange", label=f"goal ({int(goal.sum())} states)")
+    ax.set_xlabel("elbow angle (deg)")
+    ax.set_ylabel("shoulder angle (deg)")
+    ax.set_title(f"arm joint space: {int((state_of >= 0).sum())} free poses")
+    ax.legend(loc="upper right", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out / "arm_state_space.png", dpi=120)
+    plt.close(fig)
+
+
+def fig_values(f, out, kernels, run_index):
+    run = f[f"arm/run_{run_index:03d}"]
+    state_of, shoulders, elbows = grid_axes(run)
+    nodes = run["graph/nodes"][:]
+    fig, axes = plt.subplots(1, 2, figsize=(13, 4.5))
+    for ax, basis in zip(axes, ("ggk", "ogk")):
+        name = next(n for n in run[f"fits/{basis}"] if n.startswith(f"k_{kernels:04d}"))
+        fit = run[f"fits/{basis}/{name}"]
+        values = on_grid(state_of, fit["state_values"][:])
+        im = ax.imshow(values, origin="lower", extent=extent(shoulders, elbows), aspect="auto",
+                       cmap="viridis", interpolation="nearest")
+        fig.colorbar(im, ax=ax, label="V(s)")
+        e, s = trajectory_angles(nodes, fit["trajectory_A"][:])
+        ax.plot(e, s, "w-", linewidth=2)
+        ax.plot(e[:1], s[:1], "w*", markersize=14)
+        reached = fit.attrs["success_from_A"] == 1
+        ax.set_title(f"{STYLE[basis][2]}, {kernels} kernels: from A "
+                     f"{'reaches the goal' if reached else 'fails'}")
+        ax.set_xlabel("elbow angle (deg)")
+        ax.set_ylabel("shoulder angle (deg)")
+    fig.tight_layout()
+    fig.savefig(out / "arm_values.png", dpi=120)
+    plt.close(fig)
+
+
+def fig_success(path, out):
+    summary = read_summary(path, "arm")
+    runs = len(set(summary["run"]))
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    panels = (("success_from_A", "success from A (% of runs)"),
+              ("success_rate", "success from all free poses (%)"))
+    for ax, (metric, label) in zip(axes, panels):
+        for basis in ("ggk", "ogk"):
+            k, mean, half = curve(summary, metric, basis=basis)
+            color, marker, name = STYLE[basis]
+            ax.errorbar(k, 100 * mean, yerr=100 * half, color=color, marker=marker, capsize=3,
+                        label=name)
+        ax.set_xlabel("number of kernels")
+        ax.set_ylabel(label)
+        ax.set_ylim(0, 100)
+        ax.grid(alpha=0.3)
+        ax.legend()
+    fig.suptitle(f"robot arm, {runs} runs, 95 % CI")
+    fig.tight_layout()
+    fig.savefig(out / "arm_success.png", dpi=120)
+    plt.close(fig)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("results")
+    parser.add_argument("out_dir")
+    parser.add_argument("--kernels", type=int, default=None,
+                        help="kernel count of Fig. 2 (default: the largest swept)")
+    parser.add_argument("--run", type=int, default=0, help="run shown in Fig. 2")
+    args = parser.parse_args()
+    out = Path(args.out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    with h5py.File(args.results, "r") as f:
+        kernels = args.kernels
+        if kernels is None:
+            kernels = int(max(read_summary(args.results, "arm")["kernels"]))
+        fig_state_space(f, out)
+        fig_values(f, out, kernels, args.run)
+    fig_success(args.results, out)
+    for name in ("arm_state_space.png", "arm_values.png", "arm_success.png"):
+        print(out / name)
+
+
+if __name__ == "__main__":
+    main()
