@@ -4,9 +4,10 @@
 // Paths are HDF5 object paths inside the file ("/maze/run_000/samples/rewards");
 // a leading '/' is optional, "/" is the root group. Every write creates a new
 // object, creating missing parent groups on the way; writing to a path that
-// already exists is an error naming the path. The only way to discard data is
-// remove(), which the engine uses to drop an incomplete run before redoing it.
-// (HDF5 does not give the space of removed objects back; h5repack does.)
+// already exists is an error naming the path. Data is discarded only by
+// remove() or detach() of a whole object (the engine drops an incomplete run
+// before redoing it); space freed by remove() is reused only while the file
+// stays open (h5repack compacts a file).
 //
 // Layout on disk, chosen so that h5py/pandas read it without help:
 //  - numeric datasets are little-endian IEEE/two's complement, 1-D or 2-D
@@ -23,17 +24,22 @@
 // Default library format bounds (files readable by HDF5 >= 1.8, h5py on
 // Debian 12).
 //
-// Crashes: HDF5 1.10 has no journal. A process killed (kill -9) between two
-// flushes leaves a file that opens with everything written up to the last
-// flush() that returned. A kill *during* a flush can leave the objects that
-// flush was writing unreadable (measured: a few percent of random kills in a
-// stress test that flushes all the time; in the engine the exposure is the
-// fraction of time spent flushing). To keep a run safe, commit it in two steps:
-// write it under a staging path and flush(), then move() it to its final path
-// (or write its "complete" mark) and flush() again; a resume treats anything
-// left at a staging path as incomplete and detach()es it. Tables are chunked but not compressed:
-// appending to a compressed chunk rewrites it in place, so a kill during an
-// append could destroy rows that an earlier flush had made safe.
+// Crashes: HDF5 1.10 has no journal. After a kill -9 between two flushes the
+// file opens with everything written up to the last flush() that returned;
+// what was written after it may or may not be there. A kill *during* a flush
+// can leave what that flush was writing, and the group linking to it,
+// unreadable (2-4% of random kills in a stress test that flushes all the
+// time; in the engine the exposure is the fraction of time spent flushing).
+// So commit a run in two steps, which puts only a staging group at risk:
+//   1. write the run under a staging path (/.staging/maze/run_003), flush();
+//   2. move() it to its final path (/maze/run_003), append its summary row,
+//      flush().
+// On resume, detach() whatever is left under the staging path: it may be
+// damaged, and remove() then fails. With this protocol every committed run
+// stayed readable in 300 random kills of the stress test.
+// Tables are chunked but not compressed: appending to a compressed chunk
+// rewrites it in place, and random kills showed that this can destroy rows
+// that an earlier flush had written.
 //
 // Errors: every failure throws std::runtime_error naming the file, the object
 // path and HDF5's own reason (collected from its error stack; HDF5's automatic
