@@ -116,6 +116,10 @@ std::string run_group(const std::string& task, std::int32_t run) {
   return "/" + task + buffer;
 }
 
+std::string staging_group(const std::string& task, std::int32_t run) {
+  return kStagingRoot + run_group(task, run);
+}
+
 std::string fit_group_name(const JobSpec& job, const SweepPoint& point) {
   char kernels[16];
   std::snprintf(kernels, sizeof kernels, "k_%04d", point.kernels);
@@ -141,22 +145,28 @@ std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_
 }
 
 void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
+  // Two-step commit (see hdf5_file.hpp, "Crashes"): the run is written and
+  // flushed under a staging path, then moved to its place and marked complete. A
+  // kill can then damage at most the staging group, which a resume discards.
   const std::string group = run_group(job.task, record.run);
+  const std::string staging = staging_group(job.task, record.run);
   if (file.exists(group)) file.remove(group);
-  file.create_group(group);
-  write_samples(file, group + "/samples", record.samples);
-  write_graph(file, group + "/graph", record);
-  for (const NamedArray& array : record.arrays) write_named_array(file, group, array);
+  if (file.exists(staging)) file.detach(staging);
+  file.create_group(staging);
+  write_samples(file, staging + "/samples", record.samples);
+  write_graph(file, staging + "/graph", record);
+  for (const NamedArray& array : record.arrays) write_named_array(file, staging, array);
   std::vector<TableRow> rows;
   for (const FitRecord& fit : record.fits) {
-    write_fit(file, group + "/fits/" + fit_group_name(job, fit.point), fit, job);
+    write_fit(file, staging + "/fits/" + fit_group_name(job, fit.point), fit, job);
     rows.push_back(summary_row(record.run, fit));
   }
   const auto columns = summary_columns(metric_names_of(record));
-  file.create_table(group + "/fit_metrics", columns);
-  file.append_rows(group + "/fit_metrics", rows);
-  // Last: the mark that the run is whole.
-  file.write_int64_attribute(group, "complete", 1);
+  file.create_table(staging + "/fit_metrics", columns);
+  file.append_rows(staging + "/fit_metrics", rows);
+  file.flush();
+  file.move(staging, group);
+  file.write_int64_attribute(group, "complete", 1);  // last: the mark that the run is whole
   file.flush();
 }
 
@@ -167,6 +177,8 @@ bool run_is_complete(const Hdf5File& file, const std::string& task, std::int32_t
 }
 
 std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job) {
+  // Whatever a killed writer left under the staging path may be damaged: detach it.
+  if (file.exists(kStagingRoot)) file.detach(kStagingRoot);
   std::vector<std::int32_t> complete;
   for (std::int32_t run = 0; run < job.runs; ++run) {
     if (run_is_complete(file, job.task, run)) {

@@ -21,19 +21,24 @@
 
 namespace ggk::engine {
 
-std::string run_group(const std::string& task, std::int32_t run);         // "/maze/run_007"
+std::string run_group(const std::string& task, std::int32_t run);  // "/maze/run_007"
+// Where a run is written before it is moved into place: "/.staging/maze/run_007".
+inline const std::string kStagingRoot = "/.staging";
+std::string staging_group(const std::string& task, std::int32_t run);
 std::string fit_group_name(const JobSpec& job, const SweepPoint& point);  // "ggk/k_0016"
 
 // The columns of fit_metrics and summary for a task whose fits report `metrics`.
 std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names);
 
-// Writes the run whole (an incomplete leftover of the same run is removed first),
-// marks it complete, and flushes the file.
+// Writes the run whole under its staging group, flushes, moves it into place,
+// marks it complete and flushes again (an incomplete leftover of the same run is
+// removed first). A kill at any moment leaves every complete run readable.
 void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record);
 
 bool run_is_complete(const Hdf5File& file, const std::string& task, std::int32_t run);
 
-// Removes incomplete runs; returns the ids of the complete ones.
+// Detaches the staging groups and removes incomplete runs; returns the ids of the
+// complete ones.
 std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job);
 
 // (Re)writes /<task>/summary from the fit_metrics of every complete run.
