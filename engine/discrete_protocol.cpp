@@ -264,8 +264,20 @@ RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscretePr
                            {static_cast<std::int64_t>(visited.size())},
                            std::vector<double>(visited.begin(), visited.end())});
 
+  // LSPI learns from the moves that start outside a goal: a walk that goes on
+  // through goals (walk_through_goals) also records moves out of goals, which
+  // belong to no episode and whose features (shift scheme) equal those of the
+  // moves into the goal; they shape the graph only.
+  kernels::SampleBatch episodic;
+  std::vector<std::uint8_t> is_goal(static_cast<std::size_t>(env.num_states), 0);
+  for (std::int32_t g : env.goal_states) is_goal[static_cast<std::size_t>(g)] = 1;
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    if (is_goal[static_cast<std::size_t>(raw.states[i])]) continue;
+    episodic.add(raw.states[i], raw.actions[i], raw.rewards[i], raw.next_states[i],
+                 raw.terminals[i] != 0, raw.weights[i]);
+  }
   kernels::SampleBatch batch =
-      job.lspi.fold_duplicates ? kernels::fold_duplicate_samples(raw) : raw;
+      job.lspi.fold_duplicates ? kernels::fold_duplicate_samples(episodic) : episodic;
   kernels::EmpiricalTransitionModel model(env.num_states, env.num_actions, batch.states,
                                           batch.actions, batch.next_states, batch.weights);
   RunContext ctx{&env, &protocol, &job, run, std::move(batch), std::move(model), 0, {}, {}, {}, {}};
