@@ -19,7 +19,7 @@ import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.colors import ListedColormap  # noqa: E402
+from matplotlib.colors import ListedColormap, SymLogNorm  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ggk_results import curve, read_summary  # noqa: E402
@@ -90,9 +90,12 @@ def fig_values(f, out, kernels, run_index):
         name = next(n for n in run[f"fits/{basis}"] if n.startswith(f"k_{kernels:04d}"))
         fit = run[f"fits/{basis}/{name}"]
         values = on_grid(state_of, fit["state_values"][:])
+        # V spans 0.9^80 .. 1: a symmetric log scale shows the far slopes too.
         im = ax.imshow(values, origin="lower", extent=extent(shoulders, elbows), aspect="auto",
-                       cmap="viridis", interpolation="nearest")
-        fig.colorbar(im, ax=ax, label="V(s)")
+                       cmap="viridis", interpolation="nearest",
+                       norm=SymLogNorm(linthresh=1e-3, vmin=np.nanmin(values),
+                                       vmax=np.nanmax(values)))
+        fig.colorbar(im, ax=ax, label="V(s) = max_a Q(s, a) (symmetric log scale)")
         e, s = trajectory_angles(nodes, fit["trajectory_A"][:])
         ax.plot(e, s, "w-", linewidth=2)
         ax.plot(e[:1], s[:1], "w*", markersize=14)
