@@ -15,6 +15,7 @@
 #include <toml++/toml.h>
 
 #include "engine/arm_table.hpp"
+#include "engine/khepera_table.hpp"
 #include "engine/maze_table.hpp"
 #include "engine/toml_table_reader.hpp"
 
@@ -30,7 +31,7 @@ struct TaskTable {
   std::string_view name;
   TaskConfig (*parse)(const TomlTableReader& job, const std::filesystem::path& job_dir);
 };
-constexpr std::array<TaskTable, 2> kTaskTables = {{
+constexpr std::array<TaskTable, 3> kTaskTables = {{
     {"maze",
      [](const TomlTableReader& job, const std::filesystem::path& job_dir) -> TaskConfig {
        return parse_maze_table(job, job_dir);
@@ -39,11 +40,15 @@ constexpr std::array<TaskTable, 2> kTaskTables = {{
      [](const TomlTableReader& job, const std::filesystem::path&) -> TaskConfig {
        return parse_arm_table(job);
      }},
+    {"khepera",
+     [](const TomlTableReader& job, const std::filesystem::path& job_dir) -> TaskConfig {
+       return parse_khepera_table(job, job_dir);
+     }},
 }};
-constexpr std::array<std::string_view, 2> kTaskNames = {"maze", "arm"};
+constexpr std::array<std::string_view, 3> kTaskNames = {"maze", "arm", "khepera"};
 
-constexpr std::array<std::string_view, 10> kTopLevelKeys = {
-    "name", "task", "runs", "seed", "sweep", "maze", "arm", "basis", "lspi", "output"};
+constexpr std::array<std::string_view, 11> kTopLevelKeys = {
+    "name", "task", "runs", "seed", "sweep", "maze", "arm", "khepera", "basis", "lspi", "output"};
 constexpr std::array<std::string_view, 5> kSweepKeys = {"basis", "kernels", "sigma", "solver",
                                                         "lambda"};
 constexpr std::array<std::string_view, 2> kBasisKeys = {"scheme", "truncation"};

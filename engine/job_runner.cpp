@@ -13,6 +13,7 @@
 #include <tbb/parallel_for.h>
 
 #include "engine/arm_task.hpp"
+#include "engine/khepera_task.hpp"
 #include "engine/maze_task.hpp"
 #include "engine/progress.hpp"
 #include "engine/run_store.hpp"
@@ -96,6 +97,8 @@ RunRecord compute_run(const JobSpec& job, std::int32_t run) {
           return run_maze(config, job, run, points);
         } else if constexpr (std::is_same_v<Config, sims::arm::ArmConfig>) {
           return run_arm(config, job, run, points);
+        } else if constexpr (std::is_same_v<Config, KheperaTaskConfig>) {
+          return run_khepera(config, job, run, points);
         }
       },
       job.task_config);

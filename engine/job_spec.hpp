@@ -14,6 +14,7 @@
 #include <variant>
 #include <vector>
 
+#include "engine/khepera_task_config.hpp"
 #include "kernels/lspi.hpp"
 #include "kernels/state_action_basis.hpp"
 #include "sims/arm/arm_config.hpp"
@@ -58,11 +59,11 @@ struct OutputSettings {
   bool store_matrices = false;   // write LSPI's A and b for every fit
 };
 
-using TaskConfig = std::variant<sims::maze::MazeConfig, sims::arm::ArmConfig>;
+using TaskConfig = std::variant<sims::maze::MazeConfig, sims::arm::ArmConfig, KheperaTaskConfig>;
 
 struct JobSpec {
   std::string name;  // [A-Za-z0-9_-]+
-  std::string task;  // "maze" or "arm"; names the alternative held by task_config
+  std::string task;  // "maze", "arm" or "khepera"; names the alternative held by task_config
   std::int32_t runs = 1;
   std::uint64_t seed = 0;
   SweepAxes sweep;

@@ -400,7 +400,7 @@ std::vector<MalformedJob> malformed_jobs() {
        {"bad.toml:8:11: [sweep] solver:", "did you mean 'lstdq'?"}},
       {"unknown task",
        header_with(2, "task = \"robot\""),
-       {"bad.toml:2:1: task: expected one of 'maze' or 'arm', got \"robot\""}},
+       {"bad.toml:2:1: task: expected one of 'maze', 'arm', or 'khepera', got \"robot\""}},
       {"missing required key in [sweep]",
        header_without(7),
        {"bad.toml:5:1: [sweep] sigma: required key is missing"}},
