@@ -12,7 +12,7 @@ packages=(
   libtomlplusplus-dev libcli11-dev librandom123-dev
   libopenmpi-dev openmpi-bin
   libboost-dev
-  python3-h5py python3-matplotlib python3-numpy python3-scipy
+  python3-h5py python3-matplotlib python3-numpy python3-scipy python3-pandas
 )
 
 missing=()
