@@ -52,6 +52,22 @@ void check_output_directory(const std::filesystem::path& output) {
     throw UsageError("output " + output.string() + ": directory " + dir.string() +
                      " is not writable");
   }
+  if (std::filesystem::is_directory(output, ec)) {
+    throw UsageError("output " + output.string() + " is a directory");
+  }
+}
+
+// The results file cannot be opened or created for reasons of the user's making
+// (not an HDF5 file, no permission): a UsageError, reported like a bad -o.
+template <class Open>
+Hdf5File open_as_user(Open&& open) {
+  try {
+    return open();
+  } catch (const UsageError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw UsageError(e.what());
+  }
 }
 
 // Opens (resume) or creates the results file; returns the runs already complete.
@@ -59,7 +75,7 @@ Hdf5File open_results(const JobSpec& job, const RunOptions& options,
                       const std::filesystem::path& output, std::vector<std::int32_t>& complete) {
   const bool exists = std::filesystem::exists(output);
   if (exists && options.resume) {
-    Hdf5File file = Hdf5File::open_read_write(output);
+    Hdf5File file = open_as_user([&] { return Hdf5File::open_read_write(output); });
     if (!file.has_attribute("/", "job") ||
         file.read_string_attribute("/", "job") != job.source_text) {
       throw UsageError("cannot resume " + output.string() +
@@ -73,7 +89,8 @@ Hdf5File open_results(const JobSpec& job, const RunOptions& options,
     throw UsageError("output " + output.string() +
                      " exists: pass --resume to continue it or --overwrite to replace it");
   }
-  Hdf5File file = Hdf5File::create(output, Hdf5File::CreateMode::kTruncate);
+  Hdf5File file =
+      open_as_user([&] { return Hdf5File::create(output, Hdf5File::CreateMode::kTruncate); });
   file.write_string_attribute("/", "job", job.source_text);
   file.write_string_attribute("/", "job_file", job.source_file.string());
   file.write_string_attribute("/", "ggk_version", GGK_VERSION);

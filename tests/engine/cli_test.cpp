@@ -277,6 +277,32 @@ TEST_F(CliTest, BadCommandLinesExitWithStatus2) {
   EXPECT_EQ(ggk({"--help"}).status, 0);
 }
 
+TEST_F(CliTest, OutputThatIsNoResultsFileIsAUserError) {
+  const fs::path job = write("good.toml", kHeader);
+  const fs::path plain = dir_ / "plain.txt";
+  const std::string bytes = file_bytes(plain);
+  for (const char* flag : {"", "--resume"}) {
+    SCOPED_TRACE(flag);
+    std::vector<std::string> args = {"run", job.string(), "-q", "-o", plain.string()};
+    if (*flag != '\0') args.emplace_back(flag);
+    const Outcome outcome = ggk(args);
+    EXPECT_EQ(outcome.status, kUserError) << outcome.err;
+    EXPECT_TRUE(contains(outcome.err, "ggk: error: "));
+    EXPECT_TRUE(contains(outcome.err, plain.string()));
+    EXPECT_EQ(file_bytes(plain), bytes);
+  }
+  for (const char* flag : {"", "--resume", "--overwrite"}) {
+    SCOPED_TRACE(flag);
+    std::vector<std::string> args = {"run", job.string(), "-q", "-o", (dir_ / "out").string()};
+    if (*flag != '\0') args.emplace_back(flag);
+    const Outcome outcome = ggk(args);
+    EXPECT_EQ(outcome.status, kUserError) << outcome.err;
+    EXPECT_TRUE(contains(outcome.err, "ggk: error: "));
+    EXPECT_TRUE(contains(outcome.err, "is a directory"));
+    EXPECT_TRUE(fs::is_empty(dir_ / "out"));
+  }
+}
+
 TEST_F(CliTest, RunValidateAndInfo) {
   const fs::path job = write("good.toml", kHeader);
   const fs::path output = dir_ / "out" / "bad.h5";

@@ -460,6 +460,27 @@ TEST_F(JobRunnerTest, MissingOutputDirectoryIsAUsageError) {
   const JobSpec job = load_job("job.toml", determinism_job(dir_ / "out.h5"));
   EXPECT_THROW(run_job(job, options_for(dir_ / "missing" / "out.h5")), UsageError);
   EXPECT_FALSE(fs::exists(dir_ / "missing"));
+
+  fs::create_directories(dir_ / "folder");
+  RunOptions overwrite = options_for(dir_ / "folder");
+  overwrite.overwrite = true;
+  EXPECT_THROW(run_job(job, overwrite), UsageError);
+  EXPECT_TRUE(fs::is_directory(dir_ / "folder"));
+}
+
+TEST_F(JobRunnerTest, ResumeOfAFileThatIsNotHdf5IsAUsageError) {
+  const JobSpec job = load_job("job.toml", determinism_job(dir_ / "out.h5"));
+  std::ofstream(job.output.file, std::ios::binary) << "not HDF5\n";
+  RunOptions resume = options_for(job.output.file);
+  resume.resume = true;
+  try {
+    run_job(job, resume);
+    FAIL() << "expected a UsageError";
+  } catch (const UsageError& error) {
+    EXPECT_NE(std::string(error.what()).find(job.output.file.string()), std::string::npos)
+        << error.what();
+  }
+  EXPECT_EQ(file_bytes(job.output.file), "not HDF5\n");
 }
 
 TEST_F(JobRunnerTest, TooManyKernelsIsAnInvalidFitAndTheOthersStillRun) {
