@@ -67,6 +67,7 @@ struct RunContext {
   std::vector<std::int32_t> centers;      // centre order over occupied units
   kernels::RowMatrixXd center_distances;  // shortest paths from the first centres
   std::int32_t graph_nodes = 0;           // occupied units
+  std::vector<std::uint8_t> occupied;     // per unit: the best match of some sample
   std::unique_ptr<kernels::EmpiricalTransitionModel> model;  // for the shift scheme
 };
 
@@ -83,7 +84,7 @@ class ReadingKernels {
     Eigen::VectorXd k(p);
     const double truncation = ctx_.job->basis.truncation;
     if (point_.basis == KernelType::ggk) {
-      const kernels::BestMatch bmu = ctx_.som->best_matching_unit(reading);
+      const kernels::BestMatch bmu = nearest_graph_node(reading);
       for (Eigen::Index j = 0; j < p; ++j) {
         k(j) = kernels::gaussian(bmu.distance + ctx_.center_distances(j, bmu.unit), point_.sigma);
       }
@@ -103,6 +104,25 @@ class ReadingKernels {
   }
 
  private:
+  // n(s) of the continuous GGK: the nearest unit that is a node of the sample
+  // graph. A unit no sample maps to is isolated (every shortest path from a centre
+  // to it is infinite), so a reading whose best match is such a unit falls back to
+  // the nearest occupied unit instead of getting all-zero features. For the
+  // samples' own readings this is their best match.
+  kernels::BestMatch nearest_graph_node(std::span<const double> reading) const {
+    const kernels::BestMatch bmu = ctx_.som->best_matching_unit(reading);
+    if (ctx_.occupied[static_cast<std::size_t>(bmu.unit)]) return bmu;
+    const Eigen::Map<const Eigen::RowVectorXd> x(reading.data(),
+                                                 static_cast<Eigen::Index>(reading.size()));
+    kernels::BestMatch best{-1, std::numeric_limits<double>::infinity()};
+    for (std::int32_t u = 0; u < ctx_.som->num_units(); ++u) {
+      if (!ctx_.occupied[static_cast<std::size_t>(u)]) continue;
+      const double d = (x - ctx_.som->prototypes().row(u)).norm();
+      if (d < best.distance) best = {u, d};
+    }
+    return best;
+  }
+
   const RunContext& ctx_;
   const SweepPoint& point_;
   std::span<const std::int32_t> centers_;
@@ -304,6 +324,7 @@ RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::
     transitions[i] = {from, to};
   }
   for (std::int32_t u : ctx.state_units.units) occupied[static_cast<std::size_t>(u)] = 1;
+  ctx.occupied = occupied;
   record.graph = kernels::transition_graph(prototypes, transitions);
   record.node_states = prototypes;
   record.arrays.push_back({"graph/occupied",
