@@ -78,10 +78,7 @@ std::vector<std::int32_t> center_order(const DiscreteEnvironment& env,
       others.push_back(s);
     }
   }
-  for (std::size_t i = others.size(); i > 1; --i) {  // Fisher-Yates
-    const auto j = static_cast<std::size_t>(random.uniform_index(static_cast<std::int64_t>(i)));
-    std::swap(others[i - 1], others[j]);
-  }
+  kernels::shuffle(others, random);
   order.insert(order.end(), others.begin(), others.end());
   return order;
 }
@@ -190,13 +187,7 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
           ? kernels::shift_basis(state_kernels, env.num_actions, ctx.model)
           : kernels::copy_basis(state_kernels, env.num_actions);
 
-  kernels::LspiOptions options;
-  options.gamma = ctx.job->lspi.gamma;
-  options.ridge = point.lambda;
-  options.max_iterations = ctx.job->lspi.max_iterations;
-  options.solver = point.solver;
-  options.solver_settings.min_rcond = ctx.job->lspi.min_rcond;
-  fit.lspi = kernels::fit_lspi(features, env.num_actions, ctx.batch, options);
+  fit.lspi = kernels::fit_lspi(features, env.num_actions, ctx.batch, lspi_options(*ctx.job, point));
   fit.status = kernels::to_string(fit.lspi.status);
   fit.message = fit.lspi.message;
 

@@ -68,6 +68,7 @@ struct RunContext {
   kernels::RowMatrixXd center_distances;  // shortest paths from the first centres
   std::int32_t graph_nodes = 0;           // occupied units
   std::vector<std::uint8_t> occupied;     // per unit: the best match of some sample
+  kernels::SampleBatch batch;             // the walks' samples, folded if the job asks
   std::unique_ptr<kernels::EmpiricalTransitionModel> model;  // for the shift scheme
 };
 
@@ -188,16 +189,7 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
                                                 ? kernels::shift_basis(state_kernels, m, *ctx.model)
                                                 : kernels::copy_basis(state_kernels, m);
 
-  kernels::LspiOptions options;
-  options.gamma = ctx.job->lspi.gamma;
-  options.ridge = point.lambda;
-  options.max_iterations = ctx.job->lspi.max_iterations;
-  options.solver = point.solver;
-  options.solver_settings.min_rcond = ctx.job->lspi.min_rcond;
-  const kernels::SampleBatch batch = ctx.job->lspi.fold_duplicates
-                                         ? kernels::fold_duplicate_samples(ctx.walks->batch)
-                                         : ctx.walks->batch;
-  fit.lspi = kernels::fit_lspi(features, m, batch, options);
+  fit.lspi = kernels::fit_lspi(features, m, ctx.batch, lspi_options(*ctx.job, point));
   fit.status = kernels::to_string(fit.lspi.status);
   fit.message = fit.lspi.message;
   if (fit.lspi.weights.size() == 0) {
@@ -314,6 +306,7 @@ RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::
   ctx.walks = &walks;
   ctx.som = &som;
   ctx.state_units = som.best_matching_units(walks.readings);
+  ctx.batch = job.lspi.fold_duplicates ? kernels::fold_duplicate_samples(batch) : batch;
 
   // The graph over units: BMU(s) -> BMU(s') per sample, weight = prototype distance.
   std::vector<kernels::NodeTransition> transitions(batch.size());
@@ -341,11 +334,7 @@ RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::
   }
   ctx.graph_nodes = static_cast<std::int32_t>(ctx.centers.size());
   kernels::RandomStream center_stream = stream_for(job.seed, run, Purpose::centers);
-  for (std::size_t i = ctx.centers.size(); i > 1; --i) {  // Fisher-Yates
-    const auto j =
-        static_cast<std::size_t>(center_stream.uniform_index(static_cast<std::int64_t>(i)));
-    std::swap(ctx.centers[i - 1], ctx.centers[j]);
-  }
+  kernels::shuffle(ctx.centers, center_stream);
   std::int32_t max_kernels = 0;
   for (const SweepPoint& p : points) max_kernels = std::max(max_kernels, p.kernels);
   ctx.center_distances = kernels::geodesic_distances(

@@ -23,4 +23,14 @@ std::vector<SweepPoint> expand_sweep(const JobSpec& job) {
   return points;
 }
 
+kernels::LspiOptions lspi_options(const JobSpec& job, const SweepPoint& point) {
+  kernels::LspiOptions options;
+  options.gamma = job.lspi.gamma;
+  options.ridge = point.lambda;
+  options.max_iterations = job.lspi.max_iterations;
+  options.solver = point.solver;
+  options.solver_settings.min_rcond = job.lspi.min_rcond;
+  return options;
+}
+
 }  // namespace ggk::engine

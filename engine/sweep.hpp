@@ -23,4 +23,8 @@ struct SweepPoint {
 
 std::vector<SweepPoint> expand_sweep(const JobSpec& job);
 
+// The LSPI settings of one fit: the job's [lspi] table with the point's solver
+// and ridge (lambda).
+kernels::LspiOptions lspi_options(const JobSpec& job, const SweepPoint& point);
+
 }  // namespace ggk::engine

@@ -3,6 +3,7 @@
 #include <cassert>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include <Random123/philox.h>
 
@@ -56,6 +57,13 @@ double RandomStream::normal() {
   spare_normal_ = radius * std::sin(angle);
   has_spare_normal_ = true;
   return radius * std::cos(angle);
+}
+
+void shuffle(std::span<std::int32_t> items, RandomStream& random) {
+  for (std::size_t i = items.size(); i > 1; --i) {
+    const auto j = static_cast<std::size_t>(random.uniform_index(static_cast<std::int64_t>(i)));
+    std::swap(items[i - 1], items[j]);
+  }
 }
 
 }  // namespace ggk::kernels

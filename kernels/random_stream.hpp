@@ -13,6 +13,7 @@
 // Thread-safety: none; one stream per task. Copying a stream copies its position.
 
 #include <cstdint>
+#include <span>
 
 namespace ggk::kernels {
 
@@ -43,5 +44,8 @@ class RandomStream {
   double spare_normal_ = 0.0;
   bool has_spare_normal_ = false;
 };
+
+// Uniformly random permutation in place (Fisher-Yates, from the back).
+void shuffle(std::span<std::int32_t> items, RandomStream& random);
 
 }  // namespace ggk::kernels
