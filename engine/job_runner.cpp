@@ -19,6 +19,7 @@
 #include "engine/run_store.hpp"
 #include "engine/store_writer.hpp"
 #include "engine/sweep.hpp"
+#include "kernels/blas_runtime.hpp"
 
 #ifndef GGK_VERSION
 #define GGK_VERSION "unknown"
@@ -95,6 +96,7 @@ Hdf5File open_results(const JobSpec& job, const RunOptions& options,
   file.write_string_attribute("/", "job_file", job.source_file.string());
   file.write_string_attribute("/", "ggk_version", GGK_VERSION);
   file.write_string_attribute("/", "git", GGK_GIT_DESCRIBE);
+  file.write_string_attribute("/", "blas", kernels::blas_info().name);
   file.write_string_attribute("/", "created", utc_now());
   file.write_string_attribute("/", "task", job.task);
   file.write_int64_attribute("/", "runs", job.runs);
@@ -131,6 +133,14 @@ RunSummary run_job(const JobSpec& job, const RunOptions& options) {
   if (options.threads > 0) {
     thread_limit = std::make_unique<tbb::global_control>(
         tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
+  }
+
+  const kernels::BlasInfo blas = kernels::blas_info();
+  if (!blas.concurrent_safe &&
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1) {
+    throw UsageError("the BLAS is " + blas.name +
+                     ", which is not safe to call from several threads at once; install "
+                     "libopenblas0-pthread (scripts/install-deps.sh) or run with -j 1");
   }
 
   std::vector<std::int32_t> complete;

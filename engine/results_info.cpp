@@ -53,8 +53,11 @@ void print_results_info(const std::filesystem::path& path, std::ostream& out) {
       << "task:     " << task << "\n"
       << "created:  " << file.read_string_attribute("/", "created") << " by ggk "
       << file.read_string_attribute("/", "ggk_version") << " ("
-      << file.read_string_attribute("/", "git") << ")\n"
-      << "runs:     " << complete << " of " << runs << " complete\n";
+      << file.read_string_attribute("/", "git") << ")\n";
+  if (file.has_attribute("/", "blas")) {
+    out << "blas:     " << file.read_string_attribute("/", "blas") << "\n";
+  }
+  out << "runs:     " << complete << " of " << runs << " complete\n";
   const std::string summary = "/" + task + "/summary";
   if (!file.exists(summary)) {
     out << "summary:  not written yet (the sweep was interrupted; ggk run --resume finishes it)\n";

@@ -1,6 +1,7 @@
 #include "kernels/lspi.hpp"
 
-#include <cassert>
+#include "kernels/action_block_system.hpp"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -31,97 +32,14 @@ const char* to_string(LspiSolver solver) {
 
 namespace {
 
-// Row i of the result is scale[i] * features.row(rows[i]); rows[i] < 0 gives a zero row.
-SparseRowMatrix gather_rows(const SparseRowMatrix& features, const std::vector<std::int64_t>& rows,
-                            const std::vector<double>& scale) {
-  SparseRowMatrix out(static_cast<Eigen::Index>(rows.size()), features.cols());
-  Eigen::Index nnz = 0;
-  for (std::int64_t r : rows) {
-    if (r >= 0) nnz += features.outerIndexPtr()[r + 1] - features.outerIndexPtr()[r];
-  }
-  out.reserve(nnz);
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const auto row = static_cast<Eigen::Index>(i);
-    out.startVec(row);
-    if (rows[i] < 0) continue;
-    for (SparseRowMatrix::InnerIterator it(features, rows[i]); it; ++it) {
-      out.insertBack(row, it.col()) = scale[i] * it.value();
-    }
-  }
-  out.finalize();
-  return out;
-}
-
-// Largest k for which A is accumulated in a dense k x k buffer (32 MiB at the
-// limit). Dense accumulation is ~4x faster than Eigen's sparse-sparse product for
-// the LSPI sizes of the paper (k of a few hundred, tens of non-zeros per row).
-constexpr Eigen::Index kDenseAssemblyLimit = 2048;
-
+// A as CHOLMOD / UMFPACK take it: compressed columns, the lower triangle only when
+// `triangle` is lower (BRM), ridge added to the diagonal. The diagonal is always
+// structurally present, even for ridge = 0: CHOLMOD needs it, and a stable pattern
+// lets the symbolic analysis be reused. Other exact zeros are left out.
 enum class Triangle { lower, full };
 
-// Runs of at least this many contiguous columns are scattered as one vectorised
-// axpy, shorter ones element by element (lspi_benchmark: untruncated k = 800 fits
-// 1.5x faster than a plain loop; truncated k = 400 fits 1.8x slower than a plain
-// loop, 3x slower with axpys for every run).
-constexpr std::int32_t kMinVectorRun = 32;
-
-// A = left^T right + ridge I as a compressed sparse matrix; with Triangle::lower
-// only the lower triangle is formed; it requires left and right to be the same
-// matrix (the symmetric BRM case). The
-// diagonal is always structurally present, even for ridge = 0: CHOLMOD needs it,
-// and a stable pattern lets the symbolic analysis be reused.
-SparseColMatrix assemble_system(const SparseRowMatrix& left, const SparseRowMatrix& right,
-                                Triangle triangle, double ridge) {
-  const Eigen::Index k = left.cols();
-  assert(triangle == Triangle::full || &left == &right);
-  if (k > kDenseAssemblyLimit) {
-    SparseColMatrix identity(k, k);
-    identity.setIdentity();
-    SparseColMatrix product = left.transpose() * right;
-    SparseColMatrix a = triangle == Triangle::lower
-                            ? SparseColMatrix(product.triangularView<Eigen::Lower>())
-                            : product;
-    a = a + ridge * identity;
-    a.makeCompressed();
-    return a;
-  }
-  // Row i adds the outer product left_i^T right_i: A(q, p) += left(i, q) right(i, p),
-  // column p of the buffer gathers A(., p). Rows are visited in sample order, so
-  // the sums are deterministic.
-  // Kernel features come in contiguous runs of columns (one per action block), so
-  // each scatter is done as vectorised axpys over the runs of the left row.
-  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(k, k);
-  std::vector<std::int32_t> run_end;  // per stored entry of the left row: end of its run
-  const std::int32_t* l_index = left.innerIndexPtr();
-  const double* l_value = left.valuePtr();
-  for (Eigen::Index i = 0; i < left.rows(); ++i) {
-    const std::int32_t l_begin = left.outerIndexPtr()[i], l_end = left.outerIndexPtr()[i + 1];
-    const std::int32_t r_begin = right.outerIndexPtr()[i], r_end = right.outerIndexPtr()[i + 1];
-    run_end.resize(static_cast<std::size_t>(l_end - l_begin));
-    for (std::int32_t e = l_end - 1; e >= l_begin; --e) {
-      const bool continues = e + 1 < l_end && l_index[e + 1] == l_index[e] + 1;
-      run_end[static_cast<std::size_t>(e - l_begin)] =
-          continues ? run_end[static_cast<std::size_t>(e + 1 - l_begin)] : e + 1;
-    }
-    for (std::int32_t rp = r_begin; rp < r_end; ++rp) {
-      const std::int32_t p = right.innerIndexPtr()[rp];
-      const double v = right.valuePtr()[rp];
-      double* column = dense.col(p).data();
-      // Lower triangle (left == right, indices sorted): rows q >= p start at rp.
-      std::int32_t lq = triangle == Triangle::lower ? rp : l_begin;
-      while (lq < l_end) {
-        const std::int32_t end = run_end[static_cast<std::size_t>(lq - l_begin)];
-        if (end - lq >= kMinVectorRun) {
-          Eigen::Map<Eigen::VectorXd>(column + l_index[lq], end - lq) +=
-              v * Eigen::Map<const Eigen::VectorXd>(l_value + lq, end - lq);
-        } else {
-          // Short runs (truncated kernels): a plain loop; a Map per run costs more.
-          for (std::int32_t e = lq; e < end; ++e) column[l_index[e]] += l_value[e] * v;
-        }
-        lq = end;
-      }
-    }
-  }
+SparseColMatrix compress_system(const Eigen::MatrixXd& dense, Triangle triangle, double ridge) {
+  const Eigen::Index k = dense.cols();
   SparseColMatrix a(k, k);
   std::int64_t nnz = 0;
   for (Eigen::Index col = 0; col < k; ++col) {
@@ -160,6 +78,10 @@ void check_inputs(const SparseRowMatrix& features, std::int32_t num_actions,
   }
   if (options.max_iterations < 1) throw std::invalid_argument("fit_lspi: max_iterations < 1");
   samples.validate(static_cast<std::int32_t>(features.rows() / num_actions), num_actions);
+  const std::string violation = action_block_violation(features, num_actions);
+  if (!violation.empty()) {
+    throw std::invalid_argument("fit_lspi: features are not in action-block form: " + violation);
+  }
 }
 
 }  // namespace
@@ -200,26 +122,7 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
   const auto num_states = static_cast<std::size_t>(features.rows() / num_actions);
   const bool brm = options.solver == LspiSolver::brm;
 
-  // Phi (rows phi(s_i, a_i)) and r are fixed across iterations. BRM folds the
-  // weights in as sqrt(w_i) on both Psi and r, LSTD-Q as w_i on Phi only.
-  std::vector<std::int64_t> sample_rows(n);
-  std::vector<double> sample_scale(n);
-  Eigen::VectorXd scaled_rewards(static_cast<Eigen::Index>(n));
-  for (std::size_t i = 0; i < n; ++i) {
-    sample_rows[i] =
-        static_cast<std::int64_t>(samples.states[i]) * num_actions + samples.actions[i];
-    sample_scale[i] = brm ? std::sqrt(samples.weights[i]) : samples.weights[i];
-    scaled_rewards(static_cast<Eigen::Index>(i)) =
-        brm ? sample_scale[i] * samples.rewards[i] : samples.rewards[i];
-  }
-  const SparseRowMatrix phi = gather_rows(features, sample_rows, sample_scale);
-  std::vector<double> unit_scale(n, 1.0);
-  const SparseRowMatrix phi_unweighted =
-      brm ? SparseRowMatrix() : gather_rows(features, sample_rows, unit_scale);
-  // LSTD-Q: b = Phi^T W r is fixed.
-  const Eigen::VectorXd lstdq_b =
-      brm ? Eigen::VectorXd() : Eigen::VectorXd(phi.transpose() * scaled_rewards);
-
+  const ActionBlockSystem system(features, num_actions, samples, options.solver, options.gamma);
   SymmetricSolver symmetric(options.solver_settings);
   NonsymmetricSolver nonsymmetric(options.solver_settings);
 
@@ -234,30 +137,12 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
 
   LspiResult result;
   std::vector<std::int32_t> policy(num_states, 0);  // greedy for w = 0
-  std::vector<std::int64_t> next_rows(n);
-  std::vector<double> next_scale(n);
+  Eigen::MatrixXd dense_a;
   for (std::int32_t iteration = 1; iteration <= options.max_iterations; ++iteration) {
-    // phi'_i = phi(s'_i, pi(s'_i)); terminal samples do not bootstrap.
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::int32_t s_next = samples.next_states[i];
-      next_rows[i] = samples.terminals[i]
-                         ? -1
-                         : static_cast<std::int64_t>(s_next) * num_actions + policy[s_next];
-      next_scale[i] = options.gamma * (brm ? sample_scale[i] : 1.0);
-    }
-    const SparseRowMatrix phi_next = gather_rows(features, next_rows, next_scale);
-
-    SparseColMatrix a;
     Eigen::VectorXd b;
-    if (brm) {
-      const SparseRowMatrix psi = phi - phi_next;  // sqrt(W) Psi
-      a = assemble_system(psi, psi, Triangle::lower, options.ridge);
-      b = psi.transpose() * scaled_rewards;
-    } else {
-      const SparseRowMatrix difference = phi_unweighted - phi_next;
-      a = assemble_system(phi, difference, Triangle::full, options.ridge);
-      b = lstdq_b;
-    }
+    system.assemble(policy, dense_a, b);
+    SparseColMatrix a =
+        compress_system(dense_a, brm ? Triangle::lower : Triangle::full, options.ridge);
 
     Eigen::VectorXd w;
     const SolveReport report = brm ? symmetric.solve(a, b, w) : nonsymmetric.solve(a, b, w);

@@ -8,6 +8,9 @@
 //   BRM     psi_i = phi_i - gamma phi'_i;  (Psi^T W Psi + lambda I) w = Psi^T W r
 //           (symmetric; CHOLMOD)
 //   LSTD-Q  (Phi^T W (Phi - gamma Phi') + lambda I) w = Phi^T W r   (UMFPACK)
+// The features must be in action-block form (action_block_system.hpp: phi(s, a)
+// lives in columns [a p, (a + 1) p)), as the copy and shift schemes build them; A is
+// formed block by block with dense BLAS products, then compressed for the solver.
 // Policy improvement, Eq. (6): pi(s) = argmax_a Q(s, a), ties to the lowest action.
 // The first policy is the greedy policy of w = 0, i.e. action 0 everywhere.
 // Iteration stops when the greedy action stops changing on every sample state (a
@@ -66,8 +69,8 @@ struct LspiResult {
   bool ok() const { return status != LspiStatus::solver_failed; }
 };
 
-// features: (N m) x k; samples index states in [0, N). Throws std::invalid_argument
-// on inconsistent shapes or samples.
+// features: (N m) x k in action-block form; samples index states in [0, N). Throws
+// std::invalid_argument on inconsistent shapes or samples, or other features.
 LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
                     const SampleBatch& samples, const LspiOptions& options);
 

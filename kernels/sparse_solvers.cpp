@@ -8,6 +8,8 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
 
+#include "kernels/blas_runtime.hpp"
+
 namespace ggk::kernels {
 
 namespace {
@@ -155,6 +157,7 @@ struct SymmetricSolver::Impl {
 };
 
 SymmetricSolver::SymmetricSolver(SolverSettings settings) : impl_(std::make_unique<Impl>()) {
+  use_calling_thread_blas();
   impl_->settings = settings;
 }
 SymmetricSolver::~SymmetricSolver() = default;
@@ -173,6 +176,7 @@ struct NonsymmetricSolver::Impl {
 };
 
 NonsymmetricSolver::NonsymmetricSolver(SolverSettings settings) : impl_(std::make_unique<Impl>()) {
+  use_calling_thread_blas();
   impl_->settings = settings;
 }
 NonsymmetricSolver::~NonsymmetricSolver() = default;

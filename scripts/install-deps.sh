@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package ggk needs to build, test, benchmark and analyse.
 # Idempotent: prints nothing and changes nothing when all packages are present.
-# libopenblas0-serial: CHOLMOD and UMFPACK factor through BLAS; the serial OpenBLAS
-# is ~8x faster than the reference BLAS and never starts threads of its own.
+# libopenblas0-pthread: Eigen's dense products, CHOLMOD and UMFPACK run on the BLAS
+# (libblas.so.3), called from many threads at once. OpenBLAS is ~8x faster than the
+# reference BLAS; its pthread build is safe to call concurrently (Debian's serial
+# build is not) and ggk sets it to one thread per call (kernels/blas_runtime.hpp).
 set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config git clang-format
-  libeigen3-dev libsuitesparse-dev libopenblas0-serial libhdf5-dev hdf5-tools libtbb-dev
+  libeigen3-dev libsuitesparse-dev libopenblas0-pthread libhdf5-dev hdf5-tools libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libcli11-dev librandom123-dev
   libopenmpi-dev openmpi-bin

@@ -468,7 +468,7 @@ runs = 3
 seed = 4242
 [sweep]
 basis = ["ggk", "ogk"]
-kernels = [16, 24]
+kernels = [48, 64]  # ~0.6 s a run at -j 1: long enough for the kill to land between runs
 sigma = [10.0]
 solver = ["brm", "lstdq"]
 [maze]

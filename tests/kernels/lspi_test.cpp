@@ -102,10 +102,11 @@ SampleBatch full_coverage_samples(const TabularMdp& mdp) {
   return batch;
 }
 
+// One indicator per (s, a): column a * n + s (copy scheme of the identity kernel).
 SparseRowMatrix tabular_features(int n, int m) {
-  SparseRowMatrix identity(n * m, n * m);
+  SparseRowMatrix identity(n, n);
   identity.setIdentity();
-  return identity;
+  return copy_basis(identity, m);
 }
 
 struct TabularCase {
@@ -127,12 +128,13 @@ TEST_P(TabularLspiEqualsPolicyIteration, PolicyAndQMatch) {
     LspiOptions options;
     options.solver = param.solver;
     options.max_iterations = 100;
-    const LspiResult result =
-        fit_lspi(tabular_features(20, 4), 4, full_coverage_samples(mdp), options);
+    const SparseRowMatrix features = tabular_features(20, 4);
+    const LspiResult result = fit_lspi(features, 4, full_coverage_samples(mdp), options);
     ASSERT_EQ(result.status, LspiStatus::converged) << result.message;
     EXPECT_EQ(result.policy, exact.policy) << "seed " << seed;
     EXPECT_EQ(result.iterations(), exact.iterations) << "seed " << seed;
-    EXPECT_LT((result.weights - exact.q).lpNorm<Eigen::Infinity>(), 1e-8) << "seed " << seed;
+    EXPECT_LT((action_values(features, result.weights) - exact.q).lpNorm<Eigen::Infinity>(), 1e-8)
+        << "seed " << seed;
     EXPECT_EQ(result.history.back().policy_changes, 0);
   }
 }
@@ -245,6 +247,9 @@ TEST(Lspi, RejectsInconsistentInputs) {
   batch.add(0, 0, 0.0, 3, false);  // state 3 does not exist
   EXPECT_THROW(fit_lspi(features, 2, batch, {}), std::invalid_argument);
   EXPECT_THROW(fit_lspi(features, 4, SampleBatch{}, {}), std::invalid_argument);
+  SparseRowMatrix interleaved(6, 6);  // phi(s, a) in column s * 2 + a: not action blocks
+  interleaved.setIdentity();
+  EXPECT_THROW(fit_lspi(interleaved, 2, SampleBatch{}, {}), std::invalid_argument);
   LspiOptions bad_gamma;
   bad_gamma.gamma = 1.0;
   EXPECT_THROW(fit_lspi(features, 2, SampleBatch{}, bad_gamma), std::invalid_argument);
@@ -253,7 +258,7 @@ TEST(Lspi, RejectsInconsistentInputs) {
 TEST(Lspi, StateValuesAndGreedyPolicyFollowQ) {
   const SparseRowMatrix features = tabular_features(2, 3);
   Eigen::VectorXd w(6);
-  w << 0.1, 0.5, 0.5, -1.0, -2.0, -0.5;
+  w << 0.1, -1.0, 0.5, -2.0, 0.5, -0.5;  // column a * 2 + s
   EXPECT_EQ(greedy_policy(features, 3, w),
             (std::vector<std::int32_t>{1, 2}));  // ties to the lowest
   const Eigen::VectorXd v = state_values(features, 3, w);

@@ -1,0 +1,28 @@
+#pragma once
+// The BLAS behind Eigen's dense products (EIGEN_USE_BLAS), CHOLMOD and UMFPACK is
+// whatever libblas.so.3 resolves to at run time; on Debian that is an alternative,
+// OpenBLAS in the install (scripts/install-deps.sh). ggk calls it from many TBB
+// tasks at once, so it needs a BLAS that
+//   - is safe to call concurrently: OpenBLAS's pthread build or the reference BLAS;
+//     Debian 12's serial OpenBLAS is not (it is built without locking: concurrent
+//     calls share work buffers and return wrong numbers), and
+//   - runs each call on the calling thread: threads inside a call would compete
+//     with TBB's and make results depend on how the call was split.
+// use_calling_thread_blas() sets OpenBLAS to one thread per call (found with dlsym,
+// so any libblas.so.3 works); the kernels that reach the BLAS call it first.
+
+#include <string>
+
+namespace ggk::kernels {
+
+struct BlasInfo {
+  std::string name;             // e.g. "OpenBLAS 0.3.21 ... Zen MAX_THREADS=64 (pthread build)"
+  bool concurrent_safe = true;  // false for a serial OpenBLAS built without locking
+};
+
+// Idempotent and thread-safe; cheap after the first call.
+void use_calling_thread_blas();
+
+BlasInfo blas_info();
+
+}  // namespace ggk::kernels
