@@ -22,9 +22,7 @@ KheperaConfig default_like_config() {
   KheperaConfig config;
   config.arena.max = {80.0, 80.0};
   config.arena.start = {21.0, 36.0, 1.5707963267948966};
-  config.arena.obstacles = {Rectangle{{8.0, 50.0}, {16.0, 66.0}},
-                            Rectangle{{26.0, 50.0}, {34.0, 66.0}},
-                            Rectangle{{8.0, 66.0}, {34.0, 72.0}},
+  config.arena.obstacles = {Rectangle{{14.0, 50.0}, {28.0, 58.0}},
                             Rectangle{{12.0, 10.0}, {26.0, 22.0}},
                             Disc{{38.0, 18.0}, 4.0},
                             Disc{{62.0, 38.0}, 7.0},

@@ -563,22 +563,28 @@ TEST_F(ShippedKheperaJob, DefaultArenaParsesIntoItsShapes) {
   EXPECT_EQ(arena.max, (khepera::Point2{80.0, 80.0}));
   EXPECT_TRUE(arena.walled);
   EXPECT_EQ(arena.start, (khepera::Pose{21.0, 36.0, std::numbers::pi / 2.0}));
-  ASSERT_EQ(arena.obstacles.size(), 8u);
+  ASSERT_EQ(arena.obstacles.size(), 6u);
   using khepera::Disc;
   using khepera::Rectangle;
-  EXPECT_EQ(std::get<Rectangle>(arena.obstacles[0]), (Rectangle{{8.0, 50.0}, {16.0, 66.0}}));
-  EXPECT_EQ(std::get<Rectangle>(arena.obstacles[1]), (Rectangle{{26.0, 50.0}, {34.0, 66.0}}));
-  EXPECT_EQ(std::get<Rectangle>(arena.obstacles[2]), (Rectangle{{8.0, 66.0}, {34.0, 72.0}}));
-  EXPECT_EQ(std::get<Rectangle>(arena.obstacles[3]), (Rectangle{{12.0, 10.0}, {26.0, 22.0}}));
-  EXPECT_EQ(std::get<Disc>(arena.obstacles[4]), (Disc{{38.0, 18.0}, 4.0}));
-  EXPECT_EQ(std::get<Disc>(arena.obstacles[5]), (Disc{{62.0, 38.0}, 7.0}));
-  EXPECT_EQ(std::get<khepera::RotatedRectangle>(arena.obstacles[6]),
+  EXPECT_EQ(std::get<Rectangle>(arena.obstacles[0]), (Rectangle{{14.0, 50.0}, {28.0, 58.0}}));
+  EXPECT_EQ(std::get<Rectangle>(arena.obstacles[1]), (Rectangle{{12.0, 10.0}, {26.0, 22.0}}));
+  EXPECT_EQ(std::get<Disc>(arena.obstacles[2]), (Disc{{38.0, 18.0}, 4.0}));
+  EXPECT_EQ(std::get<Disc>(arena.obstacles[3]), (Disc{{62.0, 38.0}, 7.0}));
+  EXPECT_EQ(std::get<khepera::RotatedRectangle>(arena.obstacles[4]),
             (khepera::RotatedRectangle{{54.0, 63.0}, 22.0, 5.0, 30.0}));
-  EXPECT_EQ(std::get<khepera::Segment>(arena.obstacles[7]),
+  EXPECT_EQ(std::get<khepera::Segment>(arena.obstacles[5]),
             (khepera::Segment{{80.0, 18.0}, {64.0, 18.0}}));
-  // The start pose is free and faces the bay's mouth (north).
+  // The start pose is free and faces the first block (north), 11.4 cm ahead of
+  // the body: 7 forward steps of 1.5 cm fit, the eighth collides.
   const khepera::Khepera robot(khepera_config(job).simulator);
   EXPECT_FALSE(robot.collides(robot.start_pose()));
+  khepera::Pose pose = robot.start_pose();
+  for (int step = 0; step < 7; ++step) {
+    pose.y += 1.5;
+    EXPECT_FALSE(robot.collides(pose)) << "step " << step;
+  }
+  pose.y += 1.5;
+  EXPECT_TRUE(robot.collides(pose));
 }
 
 TEST_F(ShippedKheperaJob, PaperQuickAndCiJobs) {
