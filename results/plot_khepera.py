@@ -12,7 +12,11 @@
                             (one run, one kernel count, every episode)
 
     /usr/bin/python3 results/plot_khepera.py results/khepera-paper.h5 results/figures \
-        [--kernels P] [--run R] [--edge-threshold W] [--arena ARENA.toml]
+        [--kernels P] [--run R] [--solver S] [--edge-threshold W] [--arena ARENA.toml]
+        [--prefix NAME]
+
+Figs. 5 and the trajectories show one solver (--solver, default brm); Fig. 6 has a
+curve per basis and solver. --prefix replaces "khepera" in the file names.
 
 The arena comes from the job stored in the file (root attribute `job`): inline
 `[khepera.arena]`, or `[khepera] arena_file` relative to the job file (root
@@ -58,11 +62,16 @@ def run_group(f, run_index):
     return f[name]
 
 
-def fit_group(run, basis, kernels):
-    """The fit of `basis` with `kernels` centres (the first if other axes were swept)."""
-    names = sorted(n for n in run[f"fits/{basis}"] if n.startswith(f"k_{kernels:04d}"))
+def fit_group(run, basis, kernels, solver):
+    """The fit of `basis` with `kernels` centres and `solver` (the first if other
+    axes were swept)."""
+    def text(value):
+        return value.decode() if isinstance(value, bytes) else str(value)
+
+    names = sorted(n for n in run[f"fits/{basis}"] if n.startswith(f"k_{kernels:04d}")
+                   and text(run[f"fits/{basis}/{n}"].attrs["solver"]) == solver)
     if not names:
-        sys.exit(f"no {basis} fit with {kernels} kernels in {run.name}")
+        sys.exit(f"no {basis} fit with {kernels} kernels and {solver} in {run.name}")
     return run[f"fits/{basis}/{names[0]}"]
 
 
@@ -133,7 +142,7 @@ def draw_loadings(ax, coords, loadings):
                 ha="center", va="center")
 
 
-def fig_graph(f, out, run_index, threshold):
+def fig_graph(f, out, run_index, threshold, prefix):
     run = run_group(f, run_index)
     prototypes = run["som/prototypes"][:]
     occupied = run["graph/occupied"][:] > 0
@@ -162,11 +171,11 @@ def fig_graph(f, out, run_index, threshold):
     ax.set_aspect("equal", adjustable="datalim")
     ax.autoscale_view()
     fig.tight_layout()
-    fig.savefig(out / "khepera_graph.png", dpi=120)
+    fig.savefig(out / f"{prefix}_graph.png", dpi=120)
     plt.close(fig)
 
 
-def fig_policies(f, out, run_index, kernels):
+def fig_policies(f, out, run_index, kernels, solver, prefix):
     # Layout: the SOM's own grid (top row), not the PCA plane of Fig. 4(b). In the
     # PCA plane the many units of the open floor (readings near 0) and of each wall
     # side fall on top of one another, so their arrows overprint and cannot be
@@ -193,7 +202,7 @@ def fig_policies(f, out, run_index, kernels):
     policies = {}
     for column, basis in enumerate(("ggk", "ogk")):
         ax = axes[0, column]
-        fit = fit_group(run, basis, kernels)
+        fit = fit_group(run, basis, kernels, solver)
         policy = fit["unit_policy"][:].astype(int)
         policies[basis] = policy
         centers = fit["centers"][:]
@@ -211,7 +220,7 @@ def fig_policies(f, out, run_index, kernels):
         ax.set_yticks([])
         ax.set_xlabel(f"SOM grid ({rows} x {cols} units)")
         counts = np.bincount(policy[occupied], minlength=4)
-        ax.set_title(f"{STYLE[basis][2]}, {kernels} kernels: mean return "
+        ax.set_title(f"{STYLE[basis][2]}, {kernels} kernels, {solver.upper()}: mean return "
                      f"{fit.attrs['mean_return']:.1f}\n"
                      + ",  ".join(f"{ACTIONS[a][0]} {counts[a]}" for a in range(4))
                      + " units", fontsize=10)
@@ -239,26 +248,30 @@ def fig_policies(f, out, run_index, kernels):
                      frameon=False)
     fig.suptitle(f"greedy action per SOM unit, run {run_index}: GGK and OGK differ at "
                  f"{differ} of {int(occupied.sum())} units")
-    fig.savefig(out / "khepera_policies.png", dpi=110)
+    fig.savefig(out / f"{prefix}_policies.png", dpi=110)
     plt.close(fig)
 
 
-def fig_return(path, out, test_max_steps):
+def fig_return(path, out, test_max_steps, prefix):
     summary = read_summary(path, "khepera")
     runs = len(set(summary["run"]))
+    solvers = sorted(set(summary["solver"]))
     fig, axes = plt.subplots(1, 2, figsize=(11, 4))
     panels = (("mean_return", 1, f"mean evaluation return (at most {test_max_steps})"),
               ("collision_fraction", 100, "episodes stopped by a collision (%)"))
     for ax, (metric, factor, label) in zip(axes, panels):
-        for basis in ("ggk", "ogk"):
-            if not np.any(summary["basis"] == basis):
-                continue
-            k, mean, half = curve(summary, metric, basis=basis)
-            color, marker, name = STYLE[basis]
-            # GGK a little left, OGK a little right, so that the CIs do not overprint.
-            dodge = (-1 if basis == "ggk" else 1) * 0.006 * max(1, np.ptp(summary["kernels"]))
-            ax.errorbar(k + dodge, factor * mean, yerr=factor * half, color=color, marker=marker,
-                        capsize=3, label=name)
+        for s_index, solver in enumerate(solvers):
+            for basis in ("ggk", "ogk"):
+                if not np.any((summary["basis"] == basis) & (summary["solver"] == solver)):
+                    continue
+                k, mean, half = curve(summary, metric, basis=basis, solver=solver)
+                color, marker, name = STYLE[basis]
+                # Curves shifted a little sideways so that the CIs do not overprint.
+                slot = 2 * s_index + (0 if basis == "ggk" else 1) - (len(solvers) - 0.5)
+                dodge = slot * 0.005 * max(1, np.ptp(summary["kernels"]))
+                ax.errorbar(k + dodge, factor * mean, yerr=factor * half, color=color,
+                            marker=marker, linestyle=("-", "--", ":")[s_index % 3], capsize=3,
+                            label=f"{name}, {solver.upper()}" if len(solvers) > 1 else name)
         ax.set_xlabel("number of kernels")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
@@ -267,7 +280,7 @@ def fig_return(path, out, test_max_steps):
     fig.suptitle(f"Khepera, {runs} runs, {test_max_steps} greedy steps from the start pose "
                  f"(+1 forward, -2 collision), 95 % CI")
     fig.tight_layout()
-    fig.savefig(out / "khepera_return.png", dpi=120)
+    fig.savefig(out / f"{prefix}_return.png", dpi=120)
     plt.close(fig)
 
 
@@ -321,7 +334,7 @@ def step_actions(trajectory):
     return np.where(still, -1, actions)
 
 
-def fig_trajectories(f, out, run_index, kernels, arena, radius, test_max_steps):
+def fig_trajectories(f, out, run_index, kernels, solver, arena, radius, test_max_steps, prefix):
     run = run_group(f, run_index)
     fig = plt.figure(figsize=(13, 7.2), layout="constrained")
     spec = fig.add_gridspec(2, 2, height_ratios=(1, 0.05))
@@ -329,7 +342,7 @@ def fig_trajectories(f, out, run_index, kernels, arena, radius, test_max_steps):
     legend_ax = fig.add_subplot(spec[1, :])
     legend_ax.axis("off")
     for ax, basis in zip(axes, ("ggk", "ogk")):
-        fit = fit_group(run, basis, kernels)
+        fit = fit_group(run, basis, kernels, solver)
         draw_arena(ax, arena)
         evaluation = fit["evaluation"]
         names = sorted((n for n in evaluation if n.startswith("trajectory_")),
@@ -358,7 +371,7 @@ def fig_trajectories(f, out, run_index, kernels, arena, radius, test_max_steps):
                             start[1] + 2.2 * radius * math.sin(start[2])),
                     xytext=start[:2], arrowprops=dict(arrowstyle="->", color="k", lw=1.5),
                     zorder=5)
-        ax.set_title(f"{STYLE[basis][2]}, {kernels} kernels, run {run_index}\n"
+        ax.set_title(f"{STYLE[basis][2]}, {kernels} kernels, {solver.upper()}, run {run_index}\n"
                      f"{len(names)} episodes, mean return {returns.mean():.1f}, "
                      f"{collisions} stopped by a collision\nsteps taken: "
                      + ",  ".join(f"{ACTIONS[a][0]} {counts[a]}" for a in range(4)),
@@ -375,7 +388,7 @@ def fig_trajectories(f, out, run_index, kernels, arena, radius, test_max_steps):
     legend_ax.legend(handles=handles, loc="center", ncol=4, fontsize=9, frameon=False)
     fig.suptitle(f"evaluation trajectories ({test_max_steps} greedy steps at most), "
                  "one colour per episode; actions of the steps read off the poses")
-    fig.savefig(out / "khepera_trajectories.png", dpi=120)
+    fig.savefig(out / f"{prefix}_trajectories.png", dpi=120)
     plt.close(fig)
 
 
@@ -392,6 +405,10 @@ def main():
                         help="draw only graph edges lighter than this (paper: 250)")
     parser.add_argument("--arena", default=None,
                         help="arena TOML to draw instead of the job's")
+    parser.add_argument("--solver", default=None,
+                        help="solver of Fig. 5 and the trajectories (default: brm if swept)")
+    parser.add_argument("--prefix", default="khepera",
+                        help="file names PREFIX_graph.png, ... (default: khepera)")
     args = parser.parse_args()
     out = Path(args.out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -400,18 +417,22 @@ def main():
     if kernels is None:
         swept = set(int(k) for k in summary["kernels"])
         kernels = 100 if 100 in swept else max(swept)
+    solver = args.solver
+    if solver is None:
+        swept = sorted(set(summary["solver"]))
+        solver = "brm" if "brm" in swept else swept[0]
     with h5py.File(args.results, "r") as f:
         khepera = job_config(f).get("khepera", {})
         test_max_steps = int(khepera.get("test_max_steps", 150))
         radius = float(khepera.get("robot", {}).get("radius", 2.6))
         arena = read_arena(f, args.results, args.arena)
-        fig_graph(f, out, args.run, args.edge_threshold)
-        fig_policies(f, out, args.run, kernels)
-        fig_trajectories(f, out, args.run, kernels, arena, radius, test_max_steps)
-    fig_return(args.results, out, test_max_steps)
-    for name in ("khepera_graph.png", "khepera_policies.png", "khepera_return.png",
-                 "khepera_trajectories.png"):
-        print(out / name)
+        fig_graph(f, out, args.run, args.edge_threshold, args.prefix)
+        fig_policies(f, out, args.run, kernels, solver, args.prefix)
+        fig_trajectories(f, out, args.run, kernels, solver, arena, radius, test_max_steps,
+                         args.prefix)
+    fig_return(args.results, out, test_max_steps, args.prefix)
+    for name in ("graph", "policies", "return", "trajectories"):
+        print(out / f"{args.prefix}_{name}.png")
 
 
 if __name__ == "__main__":

@@ -617,6 +617,23 @@ TEST_F(ShippedKheperaJob, PaperQuickAndCiJobs) {
     EXPECT_EQ(c.simulator.motion, p.simulator.motion);
     EXPECT_EQ(c.simulator.rewards, p.simulator.rewards);
   }
+
+  // The sensitivity job differs from the paper job in the rotation step only.
+  const JobSpec turn45 = load("khepera-turn45");
+  EXPECT_EQ(turn45.runs, paper.runs);
+  EXPECT_EQ(turn45.seed, paper.seed);
+  EXPECT_EQ(turn45.sweep.kernels, paper.sweep.kernels);
+  EXPECT_EQ(turn45.sweep.solver, paper.sweep.solver);
+  const KheperaTaskConfig& t = khepera_config(turn45);
+  EXPECT_EQ(t.simulator.motion.turn_deg, 45.0);
+  khepera::MotionModel motion = t.simulator.motion;
+  motion.turn_deg = p.simulator.motion.turn_deg;
+  EXPECT_EQ(motion, p.simulator.motion);
+  EXPECT_TRUE(t.simulator.arena.obstacles == p.simulator.arena.obstacles);
+  EXPECT_EQ(t.simulator.arena.start, p.simulator.arena.start);
+  EXPECT_EQ(t.simulator.sensors, p.simulator.sensors);
+  EXPECT_EQ(t.simulator.series, p.simulator.series);
+  EXPECT_EQ(t.simulator.test_episodes, p.simulator.test_episodes);
 }
 
 // ---------------------------------------------------------------------------
