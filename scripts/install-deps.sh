@@ -5,11 +5,13 @@
 # (libblas.so.3), called from many threads at once. OpenBLAS is ~8x faster than the
 # reference BLAS; its pthread build is safe to call concurrently (Debian's serial
 # build is not) and ggk sets it to one thread per call (kernels/blas_runtime.hpp).
+# libblas-dev gives the libblas.so that ggk links; libblas.so.3 at run time is the
+# highest-priority alternative, the pthread OpenBLAS.
 set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config git clang-format
-  libeigen3-dev libsuitesparse-dev libopenblas0-pthread libhdf5-dev hdf5-tools libtbb-dev
+  libeigen3-dev libsuitesparse-dev libblas-dev libopenblas0-pthread libhdf5-dev hdf5-tools libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libcli11-dev librandom123-dev
   libopenmpi-dev openmpi-bin
