@@ -634,6 +634,12 @@ TEST_F(ShippedKheperaJob, PaperQuickAndCiJobs) {
   EXPECT_EQ(t.simulator.sensors, p.simulator.sensors);
   EXPECT_EQ(t.simulator.series, p.simulator.series);
   EXPECT_EQ(t.simulator.test_episodes, p.simulator.test_episodes);
+
+  // Its width sweep keeps the 45-degree robot.
+  const JobSpec widths = load("khepera-turn45-widths");
+  EXPECT_EQ(widths.sweep.sigma, (std::vector<double>{250.0, 500.0, 1000.0, 2000.0}));
+  EXPECT_EQ(khepera_config(widths).simulator.motion, t.simulator.motion);
+  EXPECT_TRUE(khepera_config(widths).simulator.arena.obstacles == p.simulator.arena.obstacles);
 }
 
 // ---------------------------------------------------------------------------
