@@ -8,27 +8,15 @@
 #include <variant>
 #include <vector>
 
+#include "sims/geometry.hpp"
+
 namespace ggk::sims::arm {
 
-struct Point2 {
-  double x = 0.0;
-  double y = 0.0;
-  friend bool operator==(const Point2&, const Point2&) = default;
-};
-
-// The closed box [min.x, max.x] x [min.y, max.y]; min <= max in both coordinates.
-struct Rectangle {
-  Point2 min;
-  Point2 max;
-  friend bool operator==(const Rectangle&, const Rectangle&) = default;
-};
-
-// The closed disc of `radius` > 0 around `center`.
-struct Disc {
-  Point2 center;
-  double radius = 1.0;
-  friend bool operator==(const Disc&, const Disc&) = default;
-};
+// Obstacles are closed axis-aligned boxes (min <= max in both coordinates) and
+// closed discs (radius > 0), as sims/geometry.hpp defines them.
+using sims::Disc;
+using sims::Point2;
+using sims::Rectangle;
 
 using Obstacle = std::variant<Rectangle, Disc>;
 

@@ -1,77 +1,22 @@
 #pragma once
-// Plane geometry of the Khepera arena: points and the obstacle shapes a job file
-// names. Plain data; lengths in centimetres, angles in degrees where a person
-// writes them (RotatedRectangle::angle_deg), in radians inside computations.
+// Plane geometry of the Khepera arena: the shared shapes (sims/geometry.hpp), all
+// four of which an arena may hold; lengths in centimetres.
 
-#include <cmath>
 #include <limits>
 #include <variant>
+
+#include "sims/geometry.hpp"
 
 namespace ggk::sims::khepera {
 
 // The distance a ray reports when it meets nothing within range.
 inline constexpr double kNoHit = std::numeric_limits<double>::infinity();
 
-struct Point2 {
-  double x = 0.0;
-  double y = 0.0;
-  friend bool operator==(const Point2&, const Point2&) = default;
-};
-
-inline Point2 operator+(Point2 a, Point2 b) {
-  return {a.x + b.x, a.y + b.y};
-}
-inline Point2 operator-(Point2 a, Point2 b) {
-  return {a.x - b.x, a.y - b.y};
-}
-inline Point2 operator*(double s, Point2 a) {
-  return {s * a.x, s * a.y};
-}
-inline double dot(Point2 a, Point2 b) {
-  return a.x * b.x + a.y * b.y;
-}
-// z component of the 3-D cross product: > 0 when b is counter-clockwise of a.
-inline double cross(Point2 a, Point2 b) {
-  return a.x * b.y - a.y * b.x;
-}
-inline double norm(Point2 a) {
-  return std::hypot(a.x, a.y);
-}
-// `a` turned counter-clockwise by the angle whose cosine and sine are given.
-inline Point2 rotated(Point2 a, double cos_angle, double sin_angle) {
-  return {cos_angle * a.x - sin_angle * a.y, sin_angle * a.x + cos_angle * a.y};
-}
-
-// A thin wall: the closed segment [a, b], a != b. It has no inside.
-struct Segment {
-  Point2 a;
-  Point2 b;
-  friend bool operator==(const Segment&, const Segment&) = default;
-};
-
-// A solid axis-aligned box [min.x, max.x] x [min.y, max.y], min < max in both.
-struct Rectangle {
-  Point2 min;
-  Point2 max;
-  friend bool operator==(const Rectangle&, const Rectangle&) = default;
-};
-
-// A solid box of `width` x `height` (> 0) centred at `center`, its width axis
-// turned `angle_deg` counter-clockwise from the x axis.
-struct RotatedRectangle {
-  Point2 center;
-  double width = 1.0;
-  double height = 1.0;
-  double angle_deg = 0.0;
-  friend bool operator==(const RotatedRectangle&, const RotatedRectangle&) = default;
-};
-
-// A solid disc of `radius` > 0 around `center`.
-struct Disc {
-  Point2 center;
-  double radius = 1.0;
-  friend bool operator==(const Disc&, const Disc&) = default;
-};
+using sims::Disc;
+using sims::Point2;
+using sims::Rectangle;
+using sims::RotatedRectangle;
+using sims::Segment;
 
 using Shape = std::variant<Segment, Rectangle, RotatedRectangle, Disc>;
 
