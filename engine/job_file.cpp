@@ -29,20 +29,22 @@ constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
 // one line here and its name in kTopLevelKeys.
 struct TaskTable {
   std::string_view name;
-  TaskConfig (*parse)(const TomlTableReader& job, const std::filesystem::path& job_dir);
+  TaskConfig (*parse)(const TomlTableReader& job, const std::filesystem::path& job_dir,
+                      std::vector<JobInput>& inputs);
 };
 constexpr std::array<TaskTable, 3> kTaskTables = {{
     {"maze",
-     [](const TomlTableReader& job, const std::filesystem::path& job_dir) -> TaskConfig {
-       return parse_maze_table(job, job_dir);
+     [](const TomlTableReader& job, const std::filesystem::path& job_dir,
+        std::vector<JobInput>& inputs) -> TaskConfig {
+       return parse_maze_table(job, job_dir, inputs);
      }},
     {"arm",
-     [](const TomlTableReader& job, const std::filesystem::path&) -> TaskConfig {
-       return parse_arm_table(job);
-     }},
+     [](const TomlTableReader& job, const std::filesystem::path&,
+        std::vector<JobInput>&) -> TaskConfig { return parse_arm_table(job); }},
     {"khepera",
-     [](const TomlTableReader& job, const std::filesystem::path& job_dir) -> TaskConfig {
-       return parse_khepera_table(job, job_dir);
+     [](const TomlTableReader& job, const std::filesystem::path& job_dir,
+        std::vector<JobInput>& inputs) -> TaskConfig {
+       return parse_khepera_table(job, job_dir, inputs);
      }},
 }};
 constexpr std::array<std::string_view, 3> kTaskNames = {"maze", "arm", "khepera"};
@@ -199,7 +201,7 @@ JobSpec parse_job(std::string toml_text, const std::filesystem::path& source_fil
   const std::filesystem::path job_dir = source_file.parent_path();
   for (const TaskTable& task : kTaskTables) {
     if (task.name == spec.task) {
-      spec.task_config = task.parse(job, job_dir);
+      spec.task_config = task.parse(job, job_dir, spec.inputs);
     } else if (job.has(task.name)) {
       job.fail(task.name, "table [" + std::string(task.name) + "] belongs to task '" +
                               std::string(task.name) + "', but task = \"" + spec.task + "\"");

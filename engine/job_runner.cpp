@@ -83,6 +83,16 @@ Hdf5File open_results(const JobSpec& job, const RunOptions& options,
                        ": it holds the results of a different job file (or none); choose "
                        "another output with -o, or --overwrite to replace it");
     }
+    for (const JobInput& input : job.inputs) {
+      const std::string attribute = input_attribute_name(input);
+      if (!file.has_attribute("/", attribute) ||
+          file.read_string_attribute("/", attribute) != input.text) {
+        throw UsageError("cannot resume " + output.string() + ": " + input.path + " (" + input.key +
+                         ") is not the file these results were computed from (it changed, "
+                         "or the file predates ggk recording its inputs); restore it, or "
+                         "start over with --overwrite or another -o");
+      }
+    }
     complete = prepare_for_resume(file, job);
     return file;
   }
@@ -94,6 +104,9 @@ Hdf5File open_results(const JobSpec& job, const RunOptions& options,
       open_as_user([&] { return Hdf5File::create(output, Hdf5File::CreateMode::kTruncate); });
   file.write_string_attribute("/", "job", job.source_text);
   file.write_string_attribute("/", "job_file", job.source_file.string());
+  for (const JobInput& input : job.inputs) {
+    file.write_string_attribute("/", input_attribute_name(input), input.text);
+  }
   file.write_string_attribute("/", "ggk_version", GGK_VERSION);
   file.write_string_attribute("/", "git", GGK_GIT_DESCRIBE);
   file.write_string_attribute("/", "blas", kernels::blas_info().name);

@@ -14,6 +14,7 @@
 #include <variant>
 #include <vector>
 
+#include "engine/job_input.hpp"
 #include "engine/khepera_task_config.hpp"
 #include "kernels/lspi.hpp"
 #include "kernels/state_action_basis.hpp"
@@ -74,6 +75,7 @@ struct JobSpec {
 
   std::filesystem::path source_file;  // the job file as it was named
   std::string source_text;            // its TOML text, verbatim (stored with the results)
+  std::vector<JobInput> inputs;       // the files it names (map, arena), read when loaded
 };
 
 }  // namespace ggk::engine

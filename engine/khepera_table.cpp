@@ -2,16 +2,11 @@
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <limits>
 #include <optional>
 #include <span>
-#include <sstream>
 #include <string>
 #include <string_view>
-#include <system_error>
 #include <vector>
 
 #include <toml++/toml.h>
@@ -215,23 +210,6 @@ khepera::Arena parse_arena(const ArenaTables& tables) {
   return arena;
 }
 
-// The arena file's text, or a JobError at the arena_file key.
-std::string read_arena_file(const TomlTableReader& table, const std::filesystem::path& path,
-                            const std::string& arena_file) {
-  const std::string shown =
-      "arena file '" + arena_file + "' (" + path.lexically_normal().string() + ")";
-  std::error_code error;
-  const auto status = std::filesystem::status(path, error);
-  if (!std::filesystem::exists(status)) table.fail("arena_file", shown + " does not exist");
-  if (std::filesystem::is_directory(status)) table.fail("arena_file", shown + " is a directory");
-  std::ifstream file(path, std::ios::binary);
-  if (!file) table.fail("arena_file", "cannot read " + shown + ": " + std::strerror(errno));
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) table.fail("arena_file", "cannot read " + shown + ": " + std::strerror(errno));
-  return text.str();
-}
-
 // Eight [x, y, heading_deg] mountings.
 std::array<khepera::IrSensor, khepera::kNumSensors> sensor_mountings(const TomlTableReader& robot) {
   const std::string what = "arrays [x, y, heading_deg] (s0..s7)";
@@ -394,7 +372,8 @@ void check_simulator(const khepera::KheperaConfig& config, const TomlTableReader
 }  // namespace
 
 KheperaTaskConfig parse_khepera_table(const TomlTableReader& job,
-                                      const std::filesystem::path& job_dir) {
+                                      const std::filesystem::path& job_dir,
+                                      std::vector<JobInput>& inputs) {
   const std::optional<TomlTableReader> table = job.subtable("khepera", kKheperaKeys);
   if (!table) job.fail("khepera", "required table [khepera] is missing (task = \"khepera\")");
   KheperaTaskConfig config;
@@ -446,11 +425,11 @@ KheperaTaskConfig parse_khepera_table(const TomlTableReader& job,
   }
   const std::string arena_file = table->string("arena_file");
   if (arena_file.empty()) table->fail("arena_file", "expected a file name, got \"\"");
-  const std::filesystem::path path = job_dir / arena_file;
-  const std::string text = read_arena_file(*table, path, arena_file);
+  inputs.push_back(read_job_input(*table, "arena_file", job_dir, arena_file, "arena file"));
+  const std::string& text = inputs.back().text;
   // Errors inside the arena file name that file, its line and its key, and say
   // which job read it.
-  const std::string file = path.lexically_normal().string();
+  const std::string file = inputs.back().path;
   try {
     toml::table root;
     try {

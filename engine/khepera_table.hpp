@@ -5,7 +5,9 @@
 // keys, types and defaults in jobs/README.md.
 
 #include <filesystem>
+#include <vector>
 
+#include "engine/job_input.hpp"
 #include "engine/khepera_task_config.hpp"
 #include "engine/toml_table_reader.hpp"
 
@@ -17,8 +19,9 @@ namespace ggk::engine {
 // are reported with that file's path, line and key. The simulator is built here
 // (sims::khepera::Khepera), so what only the whole configuration can tell (a
 // sensor outside the body, a start pose overlapping an obstacle) is reported at
-// the key that set it. Throws JobError.
+// the key that set it. An arena file read is appended to `inputs`. Throws JobError.
 KheperaTaskConfig parse_khepera_table(const TomlTableReader& job,
-                                      const std::filesystem::path& job_dir);
+                                      const std::filesystem::path& job_dir,
+                                      std::vector<JobInput>& inputs);
 
 }  // namespace ggk::engine

@@ -1,13 +1,8 @@
 #include "engine/maze_table.hpp"
 
 #include <array>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <limits>
-#include <sstream>
 #include <string_view>
-#include <system_error>
 
 #include "sims/maze/maze.hpp"
 
@@ -19,30 +14,11 @@ constexpr std::array<std::string_view, 6> kMazeKeys = {
 constexpr std::string_view kDefaultMapFile = "maps/four-rooms.txt";
 constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
 
-// The map file's text, or a JobError at the map_file key.
-std::string read_map_file(const TomlTableReader& maze, const std::filesystem::path& job_dir,
-                          const std::string& map_file) {
-  const std::filesystem::path path = job_dir / map_file;
-  const std::string shown =
-      "map file '" + map_file + "' (" + path.lexically_normal().string() + ")";
-  std::error_code error;
-  const auto status = std::filesystem::status(path, error);
-  if (!std::filesystem::exists(status)) {
-    maze.fail("map_file", shown + " does not exist");
-  }
-  if (std::filesystem::is_directory(status)) maze.fail("map_file", shown + " is a directory");
-  std::ifstream file(path, std::ios::binary);
-  if (!file) maze.fail("map_file", "cannot read " + shown + ": " + std::strerror(errno));
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) maze.fail("map_file", "cannot read " + shown + ": " + std::strerror(errno));
-  return text.str();
-}
-
 }  // namespace
 
 sims::maze::MazeConfig parse_maze_table(const TomlTableReader& job,
-                                        const std::filesystem::path& job_dir) {
+                                        const std::filesystem::path& job_dir,
+                                        std::vector<JobInput>& inputs) {
   const TomlTableReader maze = job.subtable_or_empty("maze", kMazeKeys);
   sims::maze::MazeConfig config;
 
@@ -57,7 +33,8 @@ sims::maze::MazeConfig parse_maze_table(const TomlTableReader& job,
   } else {
     const std::string map_file = maze.string("map_file", std::string(kDefaultMapFile));
     if (map_file.empty()) maze.fail("map_file", "expected a file name, got \"\"");
-    config.map_text = read_map_file(maze, job_dir, map_file);
+    inputs.push_back(read_job_input(maze, "map_file", job_dir, map_file, "map file"));
+    config.map_text = inputs.back().text;
   }
   try {
     const sims::maze::Maze parsed(config.map_text);

@@ -425,6 +425,46 @@ TEST_F(JobRunnerTest, ResumeRefusesTheResultsOfAnotherJob) {
   EXPECT_EQ(summary.runs_skipped, 3);
 }
 
+TEST_F(JobRunnerTest, ResumeRefusesAChangedMapFile) {
+  // The determinism job with its map in a file next to the job file.
+  std::string text = determinism_job(dir_ / "out.h5");
+  const std::size_t map_begin = text.find("map = \"\"\"");
+  const std::size_t map_end = text.find("\"\"\"", map_begin + 9) + 3;
+  text.replace(map_begin, map_end - map_begin, "map_file = \"room.txt\"");
+  const fs::path map = dir_ / "room.txt";
+  std::ofstream(map, std::ios::binary) << kSmallMap;
+  const JobSpec job = load_job("job.toml", text);
+  ASSERT_EQ(job.inputs.size(), 1u);
+  EXPECT_EQ(job.inputs[0].key, "maze.map_file");
+  run_job(job, options_for(job.output.file));
+  {
+    const Hdf5File file = Hdf5File::open_read_only(job.output.file);
+    EXPECT_EQ(file.read_string_attribute("/", "input:maze.map_file"), kSmallMap);
+  }
+
+  // The same job file over an edited map: the stored results are not its results.
+  std::string edited = kSmallMap;
+  edited.replace(edited.find("#.#."), 4, "#...");
+  std::ofstream(map, std::ios::binary | std::ios::trunc) << edited;
+  const JobSpec changed = load_job("job.toml", text);
+  const std::string bytes = file_bytes(job.output.file);
+  RunOptions resume = options_for(job.output.file);
+  resume.resume = true;
+  try {
+    run_job(changed, resume);
+    FAIL() << "expected a UsageError";
+  } catch (const UsageError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find(job.inputs[0].path), std::string::npos) << message;
+    EXPECT_NE(message.find("maze.map_file"), std::string::npos) << message;
+  }
+  EXPECT_EQ(file_bytes(job.output.file), bytes) << "a refused resume must not change the file";
+
+  // Restored, it resumes.
+  std::ofstream(map, std::ios::binary | std::ios::trunc) << kSmallMap;
+  EXPECT_EQ(run_job(load_job("job.toml", text), resume).runs_skipped, 3);
+}
+
 TEST_F(JobRunnerTest, ExistingOutputNeedsResumeOrOverwrite) {
   const JobSpec job = load_job("job.toml", determinism_job(dir_ / "out.h5"));
   run_job(job, options_for(job.output.file));
