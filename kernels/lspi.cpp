@@ -1,10 +1,10 @@
 #include "kernels/lspi.hpp"
 
-#include "kernels/action_block_system.hpp"
-
 #include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include "kernels/action_block_system.hpp"
 
 namespace ggk::kernels {
 
