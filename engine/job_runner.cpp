@@ -148,6 +148,7 @@ RunSummary run_job(const JobSpec& job, const RunOptions& options) {
         tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
   }
 
+  kernels::use_calling_thread_blas();  // before any task reaches the BLAS
   const kernels::BlasInfo blas = kernels::blas_info();
   if (!blas.concurrent_safe &&
       tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1) {
