@@ -6,10 +6,13 @@
 // Also times the feature construction on its own.
 
 #include <algorithm>
+#include <cmath>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
 #include "bench/grid_graphs.hpp"
+#include "kernels/action_block_system.hpp"
 #include "kernels/gaussian_kernels.hpp"
 #include "kernels/lspi.hpp"
 #include "kernels/random_stream.hpp"
@@ -95,6 +98,67 @@ BENCHMARK(BM_FitLspi)
     ->Args({0, 100, 1000})  // the case: k = 400, truncated kernels
     ->Args({1, 100, 1000})
     ->Args({0, 200, 0})  // the arm's largest case: k = 800, untruncated
+    ->Args({1, 200, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// One BRM system A = Psi^T W Psi for a fixed policy, two ways: ActionBlockSystem
+// (dense p x p blocks through BLAS, what fit_lspi uses) and the peer, Eigen's
+// sparse-sparse product of the rows psi_i = sqrt(w_i) (phi(s_i, a_i) - gamma
+// phi(s'_i, pi(s'_i))) built from the feature table.
+// Args: method (0 ActionBlockSystem, 1 Eigen sparse product), centres p, truncation x 1e6.
+void BM_AssembleBrmSystem(benchmark::State& state) {
+  const GridProblem problem = make_problem(static_cast<std::int32_t>(state.range(1)));
+  const kernels::SparseRowMatrix features =
+      make_features(problem, static_cast<double>(state.range(2)) * 1e-6);
+  const kernels::SampleBatch& samples = problem.samples;
+  kernels::RandomStream rng(11, 0, 0);
+  std::vector<std::int32_t> policy(static_cast<std::size_t>(kSide * kSide));
+  for (std::int32_t& action : policy) {
+    action = static_cast<std::int32_t>(rng.uniform_index(kActions));
+  }
+  const double gamma = 0.9;
+  if (state.range(0) == 0) {
+    const kernels::ActionBlockSystem system(features, kActions, samples, kernels::LspiSolver::brm,
+                                            gamma);
+    Eigen::MatrixXd a;
+    Eigen::VectorXd b;
+    for (auto _ : state) {
+      system.assemble(policy, a, b);
+      benchmark::DoNotOptimize(a.data());
+    }
+    state.SetLabel("action blocks (BLAS)");
+    return;
+  }
+  for (auto _ : state) {
+    std::vector<Eigen::Triplet<double>> entries;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const double scale = std::sqrt(samples.weights[i]);
+      const auto row = static_cast<Eigen::Index>(i);
+      const std::int64_t start = std::int64_t{samples.states[i]} * kActions + samples.actions[i];
+      for (kernels::SparseRowMatrix::InnerIterator it(features, start); it; ++it) {
+        entries.emplace_back(row, it.col(), scale * it.value());
+      }
+      if (samples.terminals[i]) continue;
+      const std::int32_t next = samples.next_states[i];
+      const std::int64_t bootstrap =
+          std::int64_t{next} * kActions + policy[static_cast<std::size_t>(next)];
+      for (kernels::SparseRowMatrix::InnerIterator it(features, bootstrap); it; ++it) {
+        entries.emplace_back(row, it.col(), -gamma * scale * it.value());
+      }
+    }
+    kernels::SparseRowMatrix psi(static_cast<Eigen::Index>(samples.size()), features.cols());
+    psi.setFromTriplets(entries.begin(), entries.end());
+    const kernels::SparseColMatrix a = (psi.transpose() * psi).pruned();
+    benchmark::DoNotOptimize(a.valuePtr());
+  }
+  state.SetLabel("Eigen sparse product");
+}
+BENCHMARK(BM_AssembleBrmSystem)
+    ->ArgNames({"method", "p", "truncation_e6"})
+    ->Args({0, 100, 1000})
+    ->Args({1, 100, 1000})
+    ->Args({0, 200, 0})
     ->Args({1, 200, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
