@@ -62,12 +62,14 @@ def run_group(f, run_index):
     return f[name]
 
 
+def text(value):
+    """An HDF5 string attribute as str (h5py gives bytes or str by how it was stored)."""
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
 def fit_group(run, basis, kernels, solver):
     """The fit of `basis` with `kernels` centres and `solver` (the first if other
     axes were swept)."""
-    def text(value):
-        return value.decode() if isinstance(value, bytes) else str(value)
-
     names = sorted(n for n in run[f"fits/{basis}"] if n.startswith(f"k_{kernels:04d}")
                    and text(run[f"fits/{basis}/{n}"].attrs["solver"]) == solver)
     if not names:
@@ -76,8 +78,7 @@ def fit_group(run, basis, kernels, solver):
 
 
 def job_config(f):
-    return tomllib.loads(f.attrs["job"].decode() if isinstance(f.attrs["job"], bytes)
-                         else f.attrs["job"])
+    return tomllib.loads(text(f.attrs["job"]))
 
 
 def read_arena(f, results_path, override=None):
