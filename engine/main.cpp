@@ -10,11 +10,12 @@
 
 #include <CLI/CLI.hpp>
 
-#include "engine/job_error.hpp"
-#include "engine/job_file.hpp"
-#include "engine/job_runner.hpp"
-#include "engine/results_info.hpp"
-#include "engine/sweep.hpp"
+#include "engine/job/job_error.hpp"
+#include "engine/job/job_file.hpp"
+#include "engine/job/sweep.hpp"
+#include "engine/run/job_runner.hpp"
+#include "engine/store/results_info.hpp"
+#include "engine/tasks/task_list.hpp"
 
 namespace {
 
@@ -23,7 +24,8 @@ constexpr int kUserError = 2;
 int run_command(const std::string& job_path, const ggk::engine::RunOptions& options) {
   ggk::engine::JobLoadOptions load;
   load.check_output = options.output.empty();  // -o replaces the job's output
-  const ggk::engine::JobSpec job = ggk::engine::load_job_file(job_path, load);
+  const ggk::engine::JobSpec job =
+      ggk::engine::load_job_file(job_path, ggk::engine::task_tables(), load);
   const ggk::engine::RunSummary s = ggk::engine::run_job(job, options);
   std::fprintf(stderr,
                "ggk: %s: %d runs computed, %d already complete, %lld fits (%lld failed) in "
@@ -34,7 +36,7 @@ int run_command(const std::string& job_path, const ggk::engine::RunOptions& opti
 }
 
 int validate_command(const std::string& job_path) {
-  const ggk::engine::JobSpec job = ggk::engine::load_job_file(job_path);
+  const ggk::engine::JobSpec job = ggk::engine::load_job_file(job_path, ggk::engine::task_tables());
   std::printf("%s: ok (task %s, %d runs x %zu sweep points)\n", job_path.c_str(), job.task.c_str(),
               job.runs, ggk::engine::expand_sweep(job).size());
   return 0;

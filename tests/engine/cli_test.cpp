@@ -23,10 +23,11 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/hdf5_file.hpp"
-#include "engine/job_file.hpp"
-#include "engine/run_store.hpp"
-#include "engine/sweep.hpp"
+#include "engine/job/job_file.hpp"
+#include "engine/job/sweep.hpp"
+#include "engine/store/hdf5_file.hpp"
+#include "engine/store/run_store.hpp"
+#include "engine/tasks/task_list.hpp"
 
 extern char** environ;
 
@@ -484,7 +485,7 @@ TEST_F(CliTest, SweepKilledMidwayIsFinishedByResume) {
   if (source_dir == nullptr) GTEST_SKIP() << "GGK_SOURCE_DIR is not set (run through ctest)";
   const fs::path map = fs::path(source_dir) / "jobs" / "maps" / "four-rooms.txt";
   const fs::path job_path = write("kill.toml", substitute(kKillJob, "MAP", map.string()));
-  const JobSpec job = load_job_file(job_path);
+  const JobSpec job = load_job_file(job_path, task_tables());
   const fs::path killed = dir_ / "out" / "kill.h5";
   const fs::path log = dir_ / "kill.log";
 

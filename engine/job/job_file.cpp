@@ -1,0 +1,231 @@
+#include "engine/job/job_file.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <span>
+#include <sstream>
+#include <stdexcept>
+#include <string_view>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "engine/job/toml_table_reader.hpp"
+
+namespace ggk::engine {
+namespace {
+
+constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
+
+// The keys every job has; the registered tasks' names (their tables) join them.
+constexpr std::array<std::string_view, 8> kCommonTopLevelKeys = {
+    "name", "task", "runs", "seed", "sweep", "basis", "lspi", "output"};
+constexpr std::array<std::string_view, 5> kSweepKeys = {"basis", "kernels", "sigma", "solver",
+                                                        "lambda"};
+constexpr std::array<std::string_view, 2> kBasisKeys = {"scheme", "truncation"};
+constexpr std::array<std::string_view, 4> kLspiKeys = {"gamma", "max_iterations", "fold_duplicates",
+                                                       "min_rcond"};
+constexpr std::array<std::string_view, 3> kOutputKeys = {"file", "compression", "store_matrices"};
+
+constexpr std::array<std::string_view, 2> kKernelTypeNames = {"ggk", "ogk"};
+constexpr std::array<std::string_view, 2> kSolverNames = {"brm", "lstdq"};
+constexpr std::array<std::string_view, 2> kSchemeNames = {"shift", "copy"};
+
+bool is_valid_name(std::string_view name) {
+  if (name.empty()) return false;
+  for (const char c : name) {
+    const bool ok = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
+                    c == '_' || c == '-';
+    if (!ok) return false;
+  }
+  return true;
+}
+
+KernelType kernel_type_from(const std::string& name) {
+  return name == "ggk" ? KernelType::ggk : KernelType::ogk;
+}
+kernels::LspiSolver solver_from(const std::string& name) {
+  return name == "brm" ? kernels::LspiSolver::brm : kernels::LspiSolver::lstdq;
+}
+kernels::BasisScheme scheme_from(const std::string& name) {
+  return name == "shift" ? kernels::BasisScheme::shift : kernels::BasisScheme::copy;
+}
+
+SweepAxes parse_sweep(const TomlTableReader& job) {
+  const std::optional<TomlTableReader> sweep = job.subtable("sweep", kSweepKeys);
+  if (!sweep) job.fail("sweep", "required table [sweep] is missing");
+  SweepAxes axes;
+  for (const std::string& name :
+       sweep->choice_set("basis", kKernelTypeNames, std::vector<std::string>{"ggk", "ogk"})) {
+    axes.basis.push_back(kernel_type_from(name));
+  }
+  for (const std::int64_t count : sweep->integer_set("kernels", {1, kInt32Max})) {
+    axes.kernels.push_back(static_cast<std::int32_t>(count));
+  }
+  axes.sigma = sweep->number_set("sigma", NumberRange::above(0.0));
+  for (const std::string& name :
+       sweep->choice_set("solver", kSolverNames, std::vector<std::string>{"brm"})) {
+    axes.solver.push_back(solver_from(name));
+  }
+  axes.lambda = sweep->number_set("lambda", NumberRange::at_least(0.0), std::vector<double>{1e-6});
+  return axes;
+}
+
+BasisSettings parse_basis(const TomlTableReader& job) {
+  const TomlTableReader table = job.subtable_or_empty("basis", kBasisKeys);
+  BasisSettings basis;
+  basis.scheme = scheme_from(
+      table.choice("scheme", kSchemeNames, std::string(basis_scheme_name(basis.scheme))));
+  basis.truncation = table.number("truncation", NumberRange::half_open(0.0, 1.0), basis.truncation);
+  return basis;
+}
+
+LspiSettings parse_lspi(const TomlTableReader& job) {
+  const TomlTableReader table = job.subtable_or_empty("lspi", kLspiKeys);
+  LspiSettings lspi;
+  lspi.gamma = table.number("gamma", NumberRange::half_open(0.0, 1.0), lspi.gamma);
+  lspi.max_iterations = static_cast<std::int32_t>(
+      table.integer("max_iterations", {1, kInt32Max}, lspi.max_iterations));
+  lspi.fold_duplicates = table.boolean("fold_duplicates", lspi.fold_duplicates);
+  lspi.min_rcond = table.number("min_rcond", NumberRange::open(0.0, 1.0), lspi.min_rcond);
+  return lspi;
+}
+
+// Why `file` cannot be the output file, or nothing. Checks its directory with
+// access(2) and creates nothing.
+std::optional<std::string> output_file_problem(const std::filesystem::path& file) {
+  if (file.empty()) return "the output file name is empty";
+  const std::string shown = single_quoted(file.string());
+  if (!file.has_filename()) return shown + " names a directory, not a file";
+  const std::filesystem::path directory = file.has_parent_path() ? file.parent_path() : ".";
+  const std::string shown_directory = single_quoted(directory.string());
+  std::error_code error;
+  const auto directory_status = std::filesystem::status(directory, error);
+  if (!std::filesystem::exists(directory_status)) {
+    return "directory " + shown_directory + " of " + shown + " does not exist";
+  }
+  if (!std::filesystem::is_directory(directory_status)) {
+    return shown_directory + " in " + shown + " is not a directory";
+  }
+  if (::access(directory.c_str(), W_OK | X_OK) != 0) {
+    return "directory " + shown_directory + " of " + shown + " is not writable (" +
+           std::strerror(errno) + ")";
+  }
+  const auto file_status = std::filesystem::status(file, error);
+  if (std::filesystem::is_directory(file_status)) return shown + " is a directory";
+  if (std::filesystem::exists(file_status) && ::access(file.c_str(), W_OK) != 0) {
+    return shown + " exists and is not writable (" + std::strerror(errno) + ")";
+  }
+  return std::nullopt;
+}
+
+OutputSettings parse_output(const TomlTableReader& job, const std::string& job_name,
+                            const JobLoadOptions& options) {
+  const TomlTableReader table = job.subtable_or_empty("output", kOutputKeys);
+  OutputSettings output;
+  output.file = table.string("file", "results/" + job_name + ".h5");
+  output.compression = static_cast<std::int32_t>(table.integer("compression", {0, 9}, 4));
+  output.store_matrices = table.boolean("store_matrices", output.store_matrices);
+  if (options.output_file) {
+    output.file = *options.output_file;
+    if (options.check_output) {
+      if (const auto problem = output_file_problem(output.file)) {
+        throw JobError(table.file(), {}, "", "output file given on the command line: " + *problem);
+      }
+    }
+  } else if (options.check_output) {
+    if (const auto problem = output_file_problem(output.file)) {
+      table.fail("file", *problem + (table.has("file") ? "" : " (the default output file)"));
+    }
+  }
+  return output;
+}
+
+// The top-level keys of a job for these tasks: the common ones, then each task's
+// table. A task named like a common key, twice, or without a parser is a
+// programmer error in the task list.
+std::vector<std::string_view> top_level_keys(std::span<const TaskTable> tasks) {
+  std::vector<std::string_view> keys(kCommonTopLevelKeys.begin(), kCommonTopLevelKeys.end());
+  for (const TaskTable& task : tasks) {
+    if (task.name.empty() || task.parse == nullptr ||
+        std::find(keys.begin(), keys.end(), task.name) != keys.end()) {
+      throw std::logic_error("task list: task '" + std::string(task.name) +
+                             "' is unnamed, has no table parser, or its name is taken");
+    }
+    keys.push_back(task.name);
+  }
+  return keys;
+}
+
+}  // namespace
+
+JobSpec parse_job(std::string toml_text, const std::filesystem::path& source_file,
+                  std::span<const TaskTable> tasks, const JobLoadOptions& options) {
+  const std::string file = source_file.string();
+  toml::table root;
+  try {
+    root = toml::parse(std::string_view(toml_text), std::string_view(file));
+  } catch (const toml::parse_error& error) {
+    throw JobError(file, location_of(error.source()), "",
+                   "TOML syntax error: " + std::string(error.description()));
+  }
+  const std::vector<std::string_view> keys = top_level_keys(tasks);
+  const std::span<const std::string_view> task_names(keys.begin() + kCommonTopLevelKeys.size(),
+                                                     keys.end());
+  const TomlTableReader job(root, "", file, keys);
+
+  JobSpec spec;
+  spec.name = job.string("name");
+  if (!is_valid_name(spec.name)) {
+    job.fail("name", "expected letters, digits, '_' or '-' only (it names output files), got \"" +
+                         spec.name + "\"");
+  }
+  spec.task = job.choice("task", task_names);
+  spec.runs = static_cast<std::int32_t>(job.integer("runs", {1, kInt32Max}));
+  spec.seed = static_cast<std::uint64_t>(
+      job.integer("seed", {0, std::numeric_limits<std::int64_t>::max()}));
+  spec.sweep = parse_sweep(job);
+
+  const std::filesystem::path job_dir = source_file.parent_path();
+  for (const TaskTable& task : tasks) {
+    if (task.name == spec.task) {
+      spec.task_config = task.parse(job, job_dir, spec.inputs);
+    } else if (job.has(task.name)) {
+      job.fail(task.name, "table [" + std::string(task.name) + "] belongs to task '" +
+                              std::string(task.name) + "', but task = \"" + spec.task + "\"");
+    }
+  }
+
+  spec.basis = parse_basis(job);
+  spec.lspi = parse_lspi(job);
+  spec.output = parse_output(job, spec.name, options);
+  spec.source_file = source_file;
+  spec.source_text = std::move(toml_text);
+  return spec;
+}
+
+JobSpec load_job_file(const std::filesystem::path& path, std::span<const TaskTable> tasks,
+                      const JobLoadOptions& options) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw JobError(path.string(), {}, "", "cannot read the job file: it is a directory");
+  }
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) {
+    throw JobError(path.string(), {}, "",
+                   std::string("cannot read the job file: ") + std::strerror(errno));
+  }
+  std::ostringstream text;
+  text << stream.rdbuf();
+  return parse_job(std::move(text).str(), path, tasks, options);
+}
+
+}  // namespace ggk::engine

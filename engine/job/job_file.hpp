@@ -1,0 +1,41 @@
+#pragma once
+// Sweep job files (TOML): read, validate, and turn into a JobSpec before anything
+// runs. Keys, types, defaults and ranges are documented in jobs/README.md.
+// The reader knows the keys every job has; the task's own table is read by the
+// parser among `tasks` whose name the job's `task` key gives (task_table.hpp;
+// engine/tasks/task_list.hpp's task_tables() lists every registered task's).
+//
+// Every problem, from a TOML syntax error to an output directory that does not
+// exist, is reported as one JobError naming the file, line, column and key
+// (job_error.hpp). Nothing is created or written. Reentrant.
+
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "engine/job/job_error.hpp"
+#include "engine/job/job_spec.hpp"
+#include "engine/job/task_table.hpp"
+
+namespace ggk::engine {
+
+struct JobLoadOptions {
+  // Replaces [output] file (the CLI's -o); the replacement's directory is checked
+  // instead of the job file's.
+  std::optional<std::filesystem::path> output_file;
+  // Check that the output file's directory exists and is writable. Off for tools
+  // that only read a job (e.g. re-reading the TOML stored in a results file).
+  bool check_output = true;
+};
+
+// Reads and validates the job file at `path`. Throws JobError.
+JobSpec load_job_file(const std::filesystem::path& path, std::span<const TaskTable> tasks,
+                      const JobLoadOptions& options = {});
+
+// Validates job TOML text. source_file names the text in messages, and its folder
+// is where relative file names in the task's table are looked up. Throws JobError.
+JobSpec parse_job(std::string toml_text, const std::filesystem::path& source_file,
+                  std::span<const TaskTable> tasks, const JobLoadOptions& options = {});
+
+}  // namespace ggk::engine

@@ -1,0 +1,86 @@
+#pragma once
+// A validated sweep job: what job_file.hpp's load_job_file() returns. Plain data;
+// every value is already checked against the ranges documented in jobs/README.md.
+//
+// The sweep axes form a Cartesian product (see sweep.hpp); everything else is
+// fixed for the whole job. The task's own parameters sit in `task_config`, of
+// the type its table parser returned (task_table.hpp): this file names no task.
+
+#include <any>
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <typeinfo>
+#include <vector>
+
+#include "engine/job/job_input.hpp"
+#include "kernels/lspi.hpp"
+#include "kernels/state_action_basis.hpp"
+
+namespace ggk::engine {
+
+// Which distance the Gaussian kernels use: shortest paths on the sample graph
+// (geodesic, Eq. (8)) or Euclidean distances (ordinary, Eq. (7)).
+enum class KernelType { ggk, ogk };
+
+// Names as written in job files: "ggk"/"ogk", "brm"/"lstdq", "shift"/"copy".
+std::string_view kernel_type_name(KernelType type);
+std::string_view solver_name(kernels::LspiSolver solver);
+std::string_view basis_scheme_name(kernels::BasisScheme scheme);
+
+// The swept axes, each non-empty with distinct values, in the order the job file
+// lists them.
+struct SweepAxes {
+  std::vector<KernelType> basis;
+  std::vector<std::int32_t> kernels;  // number of kernel centres p
+  std::vector<double> sigma;          // kernel width
+  std::vector<kernels::LspiSolver> solver;
+  std::vector<double> lambda;  // ridge term
+};
+
+struct BasisSettings {
+  kernels::BasisScheme scheme = kernels::BasisScheme::shift;
+  double truncation = 0.0;  // kernel values below it become structural zeros
+};
+
+struct LspiSettings {
+  double gamma = 0.9;
+  std::int32_t max_iterations = 20;
+  bool fold_duplicates = true;  // merge identical transitions into weighted samples
+  double min_rcond = 1e-14;     // smaller reciprocal condition estimates fail the fit
+};
+
+struct OutputSettings {
+  std::filesystem::path file;    // relative to the working directory
+  std::int32_t compression = 4;  // gzip level 0..9
+  bool store_matrices = false;   // write LSPI's A and b for every fit
+};
+
+struct JobSpec {
+  std::string name;  // [A-Za-z0-9_-]+
+  std::string task;  // a registered task's name ("maze", "arm", "khepera")
+  std::int32_t runs = 1;
+  std::uint64_t seed = 0;
+  SweepAxes sweep;
+  std::any task_config;  // what the task's table parser returned
+  BasisSettings basis;
+  LspiSettings lspi;
+  OutputSettings output;
+
+  std::filesystem::path source_file;  // the job file as it was named
+  std::string source_text;            // its TOML text, verbatim (stored with the results)
+  std::vector<JobInput> inputs;       // the files it names (map, arena), read when loaded
+};
+
+// The job's task configuration as the type its task's table parser returns.
+// Throws std::logic_error (a programmer error) when it holds another type.
+template <class Config>
+const Config& task_config_as(const JobSpec& job) {
+  if (const Config* config = std::any_cast<Config>(&job.task_config)) return *config;
+  throw std::logic_error("job '" + job.name + "' (task '" + job.task + "') holds no " +
+                         typeid(Config).name() + " configuration");
+}
+
+}  // namespace ggk::engine

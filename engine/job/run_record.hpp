@@ -1,0 +1,55 @@
+#pragma once
+// Everything one run produces, as plain data, on its way from the task protocol
+// (computed in parallel) to the store (written by the one writer thread).
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/job/sweep.hpp"
+#include "kernels/csr_graph.hpp"
+#include "kernels/eigen_types.hpp"
+#include "kernels/lspi.hpp"
+
+namespace ggk::engine {
+
+// Transitions in D4RL's names; observations are state vectors, one row each.
+struct SampleRecord {
+  kernels::RowMatrixXd observations;
+  std::vector<std::int32_t> actions;
+  std::vector<double> rewards;
+  kernels::RowMatrixXd next_observations;
+  std::vector<std::uint8_t> terminals;
+};
+
+// A named array stored with a fit or a run (task-specific extras such as
+// per-start-state step counts or value surfaces).
+struct NamedArray {
+  std::string name;
+  std::vector<std::int64_t> shape;  // row-major; product = values.size()
+  std::vector<double> values;
+};
+
+struct FitRecord {
+  SweepPoint point;
+  std::string status;   // kernels::to_string(LspiStatus), or "invalid" when the fit could not start
+  std::string message;  // why, when not converged
+  std::vector<std::int32_t> centers;  // graph node ids of the kernel centres
+  kernels::LspiResult lspi;
+  // Deterministic metrics, in a fixed order per task (the summary's columns).
+  std::vector<std::pair<std::string, double>> metrics;
+  std::vector<NamedArray> arrays;
+  double fit_seconds = 0.0;  // wall time; the only non-deterministic number
+};
+
+struct RunRecord {
+  std::int32_t run = 0;
+  SampleRecord samples;
+  kernels::CsrGraph graph;
+  kernels::RowMatrixXd node_states;  // graph.num_nodes rows
+  std::vector<NamedArray> arrays;    // task-specific run data
+  std::vector<FitRecord> fits;       // one per sweep point, in sweep order
+};
+
+}  // namespace ggk::engine

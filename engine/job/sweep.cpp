@@ -1,0 +1,36 @@
+#include "engine/job/sweep.hpp"
+
+namespace ggk::engine {
+
+std::vector<SweepPoint> expand_sweep(const JobSpec& job) {
+  const SweepAxes& axes = job.sweep;
+  std::vector<SweepPoint> points;
+  points.reserve(axes.basis.size() * axes.kernels.size() * axes.sigma.size() * axes.solver.size() *
+                 axes.lambda.size());
+  // Nested loops, outermost first: the last axis (lambda) varies fastest.
+  for (const KernelType basis : axes.basis) {
+    for (const std::int32_t kernel_count : axes.kernels) {
+      for (const double sigma : axes.sigma) {
+        for (const kernels::LspiSolver solver : axes.solver) {
+          for (const double lambda : axes.lambda) {
+            const auto index = static_cast<std::int32_t>(points.size());
+            points.push_back({index, basis, kernel_count, sigma, solver, lambda});
+          }
+        }
+      }
+    }
+  }
+  return points;
+}
+
+kernels::LspiOptions lspi_options(const JobSpec& job, const SweepPoint& point) {
+  kernels::LspiOptions options;
+  options.gamma = job.lspi.gamma;
+  options.ridge = point.lambda;
+  options.max_iterations = job.lspi.max_iterations;
+  options.solver = point.solver;
+  options.solver_settings.min_rcond = job.lspi.min_rcond;
+  return options;
+}
+
+}  // namespace ggk::engine

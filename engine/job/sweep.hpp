@@ -1,0 +1,30 @@
+#pragma once
+// The points of a job's sweep: the Cartesian product of its axes.
+//
+// Order (fixed, documented in jobs/README.md): basis, kernels, sigma, solver,
+// lambda, with the last axis varying fastest, each axis in the order the job file
+// lists its values. Point i has index i. Every run of the job fits every point.
+
+#include <cstdint>
+#include <vector>
+
+#include "engine/job/job_spec.hpp"
+
+namespace ggk::engine {
+
+struct SweepPoint {
+  std::int32_t index = 0;  // position in expand_sweep()'s result
+  KernelType basis = KernelType::ggk;
+  std::int32_t kernels = 0;
+  double sigma = 0.0;
+  kernels::LspiSolver solver = kernels::LspiSolver::brm;
+  double lambda = 0.0;
+};
+
+std::vector<SweepPoint> expand_sweep(const JobSpec& job);
+
+// The LSPI settings of one fit: the job's [lspi] table with the point's solver
+// and ridge (lambda).
+kernels::LspiOptions lspi_options(const JobSpec& job, const SweepPoint& point);
+
+}  // namespace ggk::engine

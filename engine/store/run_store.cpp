@@ -1,0 +1,212 @@
+#include "engine/store/run_store.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+namespace ggk::engine {
+
+namespace {
+
+constexpr std::size_t kNameSize = 16;  // basis, solver names
+constexpr std::size_t kStatusSize = 16;
+
+std::string format_number(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+template <typename T>
+std::span<const T> as_span(const std::vector<T>& v) {
+  return {v.data(), v.size()};
+}
+
+void write_named_array(Hdf5File& file, const std::string& group, const NamedArray& array) {
+  const std::string path = group + "/" + array.name;
+  if (array.shape.size() == 2) {
+    file.write_matrix(path, array.shape[0], array.shape[1], as_span(array.values));
+  } else {
+    file.write_vector(path, as_span(array.values));
+  }
+}
+
+void write_samples(Hdf5File& file, const std::string& group, const SampleRecord& s) {
+  file.write_matrix(group + "/observations", s.observations.rows(), s.observations.cols(),
+                    {s.observations.data(), static_cast<std::size_t>(s.observations.size())});
+  file.write_vector(group + "/actions", as_span(s.actions));
+  file.write_vector(group + "/rewards", as_span(s.rewards));
+  file.write_matrix(
+      group + "/next_observations", s.next_observations.rows(), s.next_observations.cols(),
+      {s.next_observations.data(), static_cast<std::size_t>(s.next_observations.size())});
+  file.write_vector(group + "/terminals", as_span(s.terminals));
+}
+
+void write_graph(Hdf5File& file, const std::string& group, const RunRecord& r) {
+  file.write_csr(group, r.graph.num_nodes, r.graph.num_nodes, as_span(r.graph.indptr),
+                 as_span(r.graph.indices), as_span(r.graph.weights), "weights");
+  file.write_matrix(group + "/nodes", r.node_states.rows(), r.node_states.cols(),
+                    {r.node_states.data(), static_cast<std::size_t>(r.node_states.size())});
+}
+
+TableRow summary_row(std::int32_t run, const FitRecord& fit) {
+  TableRow row = {run,
+                  fit.point.index,
+                  std::string(kernel_type_name(fit.point.basis)),
+                  fit.point.kernels,
+                  fit.point.sigma,
+                  std::string(solver_name(fit.point.solver)),
+                  fit.point.lambda,
+                  fit.status};
+  for (const auto& [name, value] : fit.metrics) row.emplace_back(value);
+  row.emplace_back(fit.fit_seconds);
+  return row;
+}
+
+void write_fit(Hdf5File& file, const std::string& group, const FitRecord& fit, const JobSpec& job) {
+  file.create_group(group);
+  file.write_string_attribute(group, "basis", kernel_type_name(fit.point.basis));
+  file.write_int64_attribute(group, "kernels", fit.point.kernels);
+  file.write_double_attribute(group, "sigma", fit.point.sigma);
+  file.write_string_attribute(group, "solver", solver_name(fit.point.solver));
+  file.write_double_attribute(group, "lambda", fit.point.lambda);
+  file.write_int64_attribute(group, "sweep_point", fit.point.index);
+  file.write_string_attribute(group, "status", fit.status);
+  file.write_string_attribute(group, "message", fit.message);
+  file.write_vector(group + "/centers", as_span(fit.centers));
+  const auto& w = fit.lspi.weights;
+  file.write_vector(group + "/weights",
+                    std::span<const double>(w.data(), static_cast<std::size_t>(w.size())));
+  file.write_vector(group + "/policy", as_span(fit.lspi.policy));
+  std::vector<std::int32_t> changes;
+  std::vector<double> residuals, rconds;
+  for (const auto& it : fit.lspi.history) {
+    changes.push_back(it.policy_changes);
+    residuals.push_back(it.relative_residual);
+    rconds.push_back(it.rcond);
+  }
+  file.write_vector(group + "/history/policy_changes", as_span(changes));
+  file.write_vector(group + "/history/relative_residual", as_span(residuals));
+  file.write_vector(group + "/history/rcond", as_span(rconds));
+  for (const auto& [name, value] : fit.metrics) file.write_double_attribute(group, name, value);
+  file.write_double_attribute(group, "fit_seconds", fit.fit_seconds);
+  if (job.output.store_matrices && fit.lspi.weights.size() > 0) {
+    // A as CSR (transposing the column-major system); BRM stores its lower triangle.
+    const kernels::SparseRowMatrix a(fit.lspi.a);
+    file.write_csr(group + "/A", a);
+    file.write_vector(
+        group + "/b",
+        std::span<const double>(fit.lspi.b.data(), static_cast<std::size_t>(fit.lspi.b.size())));
+  }
+  for (const NamedArray& array : fit.arrays) write_named_array(file, group, array);
+}
+
+std::vector<std::string> metric_names_of(const RunRecord& record) {
+  std::vector<std::string> names;
+  if (!record.fits.empty()) {
+    for (const auto& [name, value] : record.fits.front().metrics) names.push_back(name);
+  }
+  return names;
+}
+
+}  // namespace
+
+std::string run_group(const std::string& task, std::int32_t run) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "/run_%03d", run);
+  return "/" + task + buffer;
+}
+
+std::string staging_group(const std::string& task, std::int32_t run) {
+  return kStagingRoot + run_group(task, run);
+}
+
+std::string fit_group_name(const JobSpec& job, const SweepPoint& point) {
+  char kernels[16];
+  std::snprintf(kernels, sizeof kernels, "k_%04d", point.kernels);
+  std::string name = std::string(kernel_type_name(point.basis)) + "/" + kernels;
+  if (job.sweep.sigma.size() > 1) name += "_sigma" + format_number(point.sigma);
+  if (job.sweep.solver.size() > 1) name += "_" + std::string(solver_name(point.solver));
+  if (job.sweep.lambda.size() > 1) name += "_lambda" + format_number(point.lambda);
+  return name;
+}
+
+std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names) {
+  std::vector<TableColumn> columns = {{"run", ColumnType::kInt32, 0},
+                                      {"sweep_point", ColumnType::kInt32, 0},
+                                      {"basis", ColumnType::kString, kNameSize},
+                                      {"kernels", ColumnType::kInt32, 0},
+                                      {"sigma", ColumnType::kFloat64, 0},
+                                      {"solver", ColumnType::kString, kNameSize},
+                                      {"lambda", ColumnType::kFloat64, 0},
+                                      {"status", ColumnType::kString, kStatusSize}};
+  for (const std::string& name : metric_names) columns.push_back({name, ColumnType::kFloat64, 0});
+  columns.push_back({"fit_seconds", ColumnType::kFloat64, 0});
+  return columns;
+}
+
+void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
+  // Two-step commit (see hdf5_file.hpp, "Crashes"): the run is written and
+  // flushed under a staging path, then moved to its place and marked complete. A
+  // kill can then damage at most the staging group, which a resume discards.
+  const std::string group = run_group(job.task, record.run);
+  const std::string staging = staging_group(job.task, record.run);
+  if (file.exists(group)) file.remove(group);
+  if (file.exists(staging)) file.detach(staging);
+  file.create_group(staging);
+  write_samples(file, staging + "/samples", record.samples);
+  write_graph(file, staging + "/graph", record);
+  for (const NamedArray& array : record.arrays) write_named_array(file, staging, array);
+  std::vector<TableRow> rows;
+  for (const FitRecord& fit : record.fits) {
+    write_fit(file, staging + "/fits/" + fit_group_name(job, fit.point), fit, job);
+    rows.push_back(summary_row(record.run, fit));
+  }
+  const auto columns = summary_columns(metric_names_of(record));
+  file.create_table(staging + "/fit_metrics", columns);
+  file.append_rows(staging + "/fit_metrics", rows);
+  file.flush();
+  file.move(staging, group);
+  file.write_int64_attribute(group, "complete", 1);  // last: the mark that the run is whole
+  file.flush();
+}
+
+bool run_is_complete(const Hdf5File& file, const std::string& task, std::int32_t run) {
+  const std::string group = run_group(task, run);
+  return file.exists(group) && file.has_attribute(group, "complete") &&
+         file.read_int64_attribute(group, "complete") == 1;
+}
+
+std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job) {
+  // Whatever a killed writer left under the staging path may be damaged: detach it.
+  if (file.exists(kStagingRoot)) file.detach(kStagingRoot);
+  std::vector<std::int32_t> complete;
+  for (std::int32_t run = 0; run < job.runs; ++run) {
+    if (run_is_complete(file, job.task, run)) {
+      complete.push_back(run);
+    } else if (file.exists(run_group(job.task, run))) {
+      file.remove(run_group(job.task, run));
+    }
+  }
+  file.flush();
+  return complete;
+}
+
+std::int64_t write_summary(Hdf5File& file, const JobSpec& job) {
+  const std::string path = "/" + job.task + "/summary";
+  if (file.exists(path)) file.remove(path);
+  std::vector<TableRow> rows;
+  std::vector<TableColumn> columns;
+  for (std::int32_t run = 0; run < job.runs; ++run) {
+    if (!run_is_complete(file, job.task, run)) continue;
+    const std::string table = run_group(job.task, run) + "/fit_metrics";
+    if (columns.empty()) columns = file.read_table_columns(table);
+    for (TableRow& row : file.read_table(table)) rows.push_back(std::move(row));
+  }
+  if (columns.empty()) return 0;
+  file.create_table(path, columns);
+  file.append_rows(path, rows);
+  file.flush();
+  return static_cast<std::int64_t>(rows.size());
+}
+
+}  // namespace ggk::engine

@@ -1,0 +1,48 @@
+#pragma once
+// Where and how a run lives in the results file (schema: results/README.md).
+//
+//   /<task>/run_NNN/samples/{observations, actions, rewards, next_observations, terminals}
+//   /<task>/run_NNN/graph/{indptr, indices, weights, nodes, ...}
+//   /<task>/run_NNN/fits/<basis>/k_PPPP[_sigmaS][_solver][_lambdaL]/
+//        {centers, weights, policy, history/..., A/, b, <task arrays>}  attrs: point values, status
+//   /<task>/run_NNN/fit_metrics   one row per fit (the summary's columns)
+//   /<task>/run_NNN               attr complete = 1, written last
+//   /<task>/summary               rows of every complete run, in run order
+//
+// All functions make HDF5 calls: call them on the StoreWriter's thread only.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/job/job_spec.hpp"
+#include "engine/job/run_record.hpp"
+#include "engine/store/hdf5_file.hpp"
+
+namespace ggk::engine {
+
+std::string run_group(const std::string& task, std::int32_t run);  // "/maze/run_007"
+// Where a run is written before it is moved into place: "/.staging/maze/run_007".
+inline const std::string kStagingRoot = "/.staging";
+std::string staging_group(const std::string& task, std::int32_t run);
+std::string fit_group_name(const JobSpec& job, const SweepPoint& point);  // "ggk/k_0016"
+
+// The columns of fit_metrics and summary for a task whose fits report `metrics`.
+std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names);
+
+// Writes the run whole under its staging group, flushes, moves it into place,
+// marks it complete and flushes again (an incomplete leftover of the same run is
+// removed first). A kill at any moment leaves every complete run readable.
+void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record);
+
+bool run_is_complete(const Hdf5File& file, const std::string& task, std::int32_t run);
+
+// Detaches the staging groups and removes incomplete runs; returns the ids of the
+// complete ones.
+std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job);
+
+// (Re)writes /<task>/summary from the fit_metrics of every complete run.
+// Returns the number of rows.
+std::int64_t write_summary(Hdf5File& file, const JobSpec& job);
+
+}  // namespace ggk::engine

@@ -1,0 +1,125 @@
+#include "engine/store/store_writer.hpp"
+
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+namespace ggk::engine {
+
+StoreWriter::StoreWriter(Hdf5File file, std::size_t queue_capacity)
+    : file_(std::move(file)), capacity_(queue_capacity) {
+  if (capacity_ == 0) throw std::invalid_argument("StoreWriter queue capacity must be >= 1");
+  thread_ = std::thread([this] { run_jobs(); });
+}
+
+StoreWriter::~StoreWriter() {
+  stop_thread();
+  file_.reset();
+  if (failure_ && !failure_reported_) {
+    // The last place the error can still be seen; losing it silently would hide
+    // a missing or partial result.
+    try {
+      std::rethrow_exception(failure_);
+    } catch (const std::exception& error) {
+      std::fprintf(stderr, "ggk: store writer: a write failed and nobody was told: %s\n",
+                   error.what());
+    } catch (...) {
+      std::fprintf(stderr, "ggk: store writer: a write failed with a non-standard exception\n");
+    }
+  }
+}
+
+void StoreWriter::require_not_writer_thread(const char* what) const {
+  if (std::this_thread::get_id() == thread_.get_id()) {
+    throw std::logic_error(std::string("StoreWriter::") + what +
+                           " called from a job on the writer thread (it would wait on itself)");
+  }
+}
+
+void StoreWriter::rethrow_failure(std::unique_lock<std::mutex>& lock) {
+  failure_reported_ = true;
+  const std::exception_ptr failure = failure_;
+  lock.unlock();
+  std::rethrow_exception(failure);
+}
+
+void StoreWriter::submit(Job job) {
+  if (!job) throw std::invalid_argument("StoreWriter::submit: empty job");
+  enqueue(Entry{std::move(job), nullptr});
+}
+
+void StoreWriter::enqueue(Entry entry) {
+  require_not_writer_thread("submit");
+  std::unique_lock lock(mutex_);
+  space_available_.wait(lock, [this] { return queue_.size() < capacity_ || failure_ || closed_; });
+  if (failure_) rethrow_failure(lock);
+  if (closed_) throw std::logic_error("StoreWriter::submit after close()");
+  queue_.push_back(std::move(entry));
+  ++pending_;
+  work_available_.notify_one();
+}
+
+void StoreWriter::wait() {
+  require_not_writer_thread("wait");
+  std::unique_lock lock(mutex_);
+  idle_.wait(lock, [this] { return pending_ == 0; });
+  if (failure_) rethrow_failure(lock);
+}
+
+void StoreWriter::close() {
+  require_not_writer_thread("close");
+  stop_thread();
+  file_.reset();
+  std::unique_lock lock(mutex_);
+  if (failure_) rethrow_failure(lock);
+}
+
+bool StoreWriter::failed() const {
+  std::lock_guard lock(mutex_);
+  return static_cast<bool>(failure_);
+}
+
+void StoreWriter::stop_thread() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+    closed_ = true;
+  }
+  work_available_.notify_all();
+  space_available_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void StoreWriter::run_jobs() {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    work_available_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+    if (queue_.empty()) return;  // stopping, and every job has run
+    Entry entry = std::move(queue_.front());
+    queue_.pop_front();
+    const std::exception_ptr earlier_failure = failure_;
+    lock.unlock();
+    space_available_.notify_one();
+
+    std::exception_ptr failure;
+    if (earlier_failure) {
+      if (entry.cancel) entry.cancel(earlier_failure);
+    } else {
+      try {
+        entry.run(*file_);
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    }
+    entry = Entry{};  // free the job's captured data outside the lock
+
+    lock.lock();
+    if (failure && !failure_) {
+      failure_ = failure;
+      space_available_.notify_all();  // blocked producers must see the failure
+    }
+    if (--pending_ == 0) idle_.notify_all();
+  }
+}
+
+}  // namespace ggk::engine

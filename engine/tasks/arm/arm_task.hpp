@@ -1,0 +1,29 @@
+#pragma once
+// The robot-arm task (paper sec. 4.1): the two-joint arm (sims/arm) on its joint
+// grid, run through the discrete protocol with the named start A (Figs. 1-3).
+
+#include <cstdint>
+#include <span>
+
+#include "engine/job/job_spec.hpp"
+#include "engine/job/run_record.hpp"
+#include "engine/tasks/discrete_protocol.hpp"
+#include "engine/tasks/task_definition.hpp"
+#include "sims/arm/arm.hpp"
+
+namespace ggk::engine {
+
+// The environment view of an arm; `arm` must outlive it. Series and tests start
+// from every free non-goal pose; A is a named start.
+DiscreteEnvironment arm_environment(const sims::arm::Arm& arm);
+
+// One run; besides the protocol's record it stores the joint grid (grid/state_of:
+// state id per cell or -1 for a colliding pose; grid/goal: 1 on goal cells) for
+// the figures.
+RunRecord run_arm(const sims::arm::ArmConfig& config, const JobSpec& job, std::int32_t run,
+                  std::span<const SweepPoint> points);
+
+// The arm task for the task list: table [arm], runs through run_arm().
+TaskDefinition arm_task_definition();
+
+}  // namespace ggk::engine

@@ -1,0 +1,292 @@
+#include "engine/tasks/discrete_protocol.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+#include "engine/tasks/seeds.hpp"
+#include "kernels/gaussian_kernels.hpp"
+#include "kernels/shortest_paths.hpp"
+#include "kernels/state_action_basis.hpp"
+#include "kernels/transition_model.hpp"
+
+namespace ggk::engine {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Uniformly random actions in `series` series from uniformly random start
+// states; see DiscreteProtocol::walk_through_goals for what follows a goal.
+kernels::SampleBatch collect_samples(const DiscreteEnvironment& env,
+                                     const DiscreteProtocol& protocol,
+                                     kernels::RandomStream& random) {
+  kernels::SampleBatch batch;
+  const auto total = static_cast<std::size_t>(protocol.series) * protocol.steps_per_series;
+  batch.states.reserve(total);
+  auto random_start = [&] {
+    return env.start_states[static_cast<std::size_t>(
+        random.uniform_index(static_cast<std::int64_t>(env.start_states.size())))];
+  };
+  for (std::int32_t series = 0; series < protocol.series; ++series) {
+    std::int32_t state = random_start();
+    for (std::int32_t step = 0; step < protocol.steps_per_series; ++step) {
+      const auto action = static_cast<std::int32_t>(random.uniform_index(env.num_actions));
+      const Transition t = env.step(state, action, random);
+      batch.add(state, action, t.reward, t.next_state, t.terminal);
+      state = t.terminal && !protocol.walk_through_goals ? random_start() : t.next_state;
+    }
+  }
+  return batch;
+}
+
+SampleRecord to_sample_record(const DiscreteEnvironment& env, const kernels::SampleBatch& batch) {
+  SampleRecord record;
+  const auto n = static_cast<Eigen::Index>(batch.size());
+  const Eigen::Index d = env.state_vectors.cols();
+  record.observations.resize(n, d);
+  record.next_observations.resize(n, d);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    record.observations.row(i) = env.state_vectors.row(batch.states[static_cast<std::size_t>(i)]);
+    record.next_observations.row(i) =
+        env.state_vectors.row(batch.next_states[static_cast<std::size_t>(i)]);
+  }
+  record.actions = batch.actions;
+  record.rewards = batch.rewards;
+  record.terminals = batch.terminals;
+  return record;
+}
+
+// Goals that were visited, in id order, then the other visited states in a
+// random order: the first p entries are the centres of a fit with p kernels.
+std::vector<std::int32_t> center_order(const DiscreteEnvironment& env,
+                                       const std::vector<std::uint8_t>& visited,
+                                       kernels::RandomStream& random) {
+  std::vector<std::int32_t> order, others;
+  std::vector<std::uint8_t> is_goal(static_cast<std::size_t>(env.num_states), 0);
+  for (std::int32_t g : env.goal_states) {
+    is_goal[static_cast<std::size_t>(g)] = 1;
+    if (visited[static_cast<std::size_t>(g)]) order.push_back(g);
+  }
+  for (std::int32_t s = 0; s < env.num_states; ++s) {
+    if (visited[static_cast<std::size_t>(s)] && !is_goal[static_cast<std::size_t>(s)]) {
+      others.push_back(s);
+    }
+  }
+  kernels::shuffle(others, random);
+  order.insert(order.end(), others.begin(), others.end());
+  return order;
+}
+
+// For every state, the nearest visited state (itself when visited) and the
+// Euclidean distance to it: GGK values of unvisited states follow the continuous
+// form SP(s, c) = ED(s, n(s)) + SP(n(s), c).
+void nearest_visited(const DiscreteEnvironment& env, const std::vector<std::uint8_t>& visited,
+                     std::vector<std::int32_t>& nearest, std::vector<double>& distance) {
+  nearest.assign(static_cast<std::size_t>(env.num_states), 0);
+  distance.assign(static_cast<std::size_t>(env.num_states), 0.0);
+  for (std::int32_t s = 0; s < env.num_states; ++s) {
+    if (visited[static_cast<std::size_t>(s)]) {
+      nearest[static_cast<std::size_t>(s)] = s;
+      continue;
+    }
+    double best = std::numeric_limits<double>::infinity();
+    for (std::int32_t v = 0; v < env.num_states; ++v) {
+      if (!visited[static_cast<std::size_t>(v)]) continue;
+      const double d = (env.state_vectors.row(s) - env.state_vectors.row(v)).norm();
+      if (d < best) {
+        best = d;
+        nearest[static_cast<std::size_t>(s)] = v;
+      }
+    }
+    distance[static_cast<std::size_t>(s)] = best;
+  }
+}
+
+struct RunContext {
+  const DiscreteEnvironment* env;
+  const DiscreteProtocol* protocol;
+  const JobSpec* job;
+  std::int32_t run;
+  kernels::SampleBatch batch;  // folded when the job asks for it
+  kernels::EmpiricalTransitionModel model;
+  std::int32_t graph_nodes;
+  std::vector<std::int32_t> centers;      // centre order
+  kernels::RowMatrixXd center_distances;  // rows: the first centres of `centers`
+  std::vector<std::int32_t> nearest;
+  std::vector<double> nearest_distance;
+};
+
+// One greedy roll-out: the states visited (start first) and the steps taken to
+// reach a goal, or -1 when none was reached within test_max_steps.
+double roll_out(const RunContext& ctx, const std::vector<std::int32_t>& policy, std::int32_t start,
+                kernels::RandomStream& random, std::vector<std::int32_t>* trajectory) {
+  std::int32_t state = start;
+  if (trajectory) trajectory->push_back(state);
+  for (std::int32_t step = 1; step <= ctx.protocol->test_max_steps; ++step) {
+    const Transition t = ctx.env->step(state, policy[static_cast<std::size_t>(state)], random);
+    if (trajectory) trajectory->push_back(t.next_state);
+    if (t.terminal) return step;
+    state = t.next_state;
+  }
+  return -1.0;
+}
+
+FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
+  const auto started = std::chrono::steady_clock::now();
+  FitRecord fit;
+  fit.point = point;
+  const auto& names = discrete_metric_names();
+  // Named starts add success_from_<name> and steps_from_<name>; without a
+  // policy (invalid or failed fit) every metric but the graph size is NaN.
+  auto set_metrics = [&](double success, double mean_steps, double iterations,
+                         const std::vector<double>& named_steps) {
+    fit.metrics = {{names[0], success},
+                   {names[1], mean_steps},
+                   {names[2], iterations},
+                   {names[3], static_cast<double>(ctx.graph_nodes)}};
+    for (std::size_t i = 0; i < ctx.env->named_starts.size(); ++i) {
+      const std::string& name = ctx.env->named_starts[i].first;
+      const double steps = i < named_steps.size() ? named_steps[i] : kNaN;
+      fit.metrics.emplace_back("success_from_" + name,
+                               std::isnan(steps) ? kNaN : (steps >= 0 ? 1.0 : 0.0));
+      fit.metrics.emplace_back("steps_from_" + name, steps >= 0 ? steps : kNaN);
+    }
+  };
+  if (point.kernels > ctx.graph_nodes) {
+    fit.status = "invalid";
+    fit.message = "run " + std::to_string(ctx.run) + ": " + std::to_string(point.kernels) +
+                  " kernels requested but the sample graph has only " +
+                  std::to_string(ctx.graph_nodes) + " nodes";
+    set_metrics(kNaN, kNaN, 0.0, {});
+    return fit;
+  }
+  const DiscreteEnvironment& env = *ctx.env;
+  fit.centers.assign(ctx.centers.begin(), ctx.centers.begin() + point.kernels);
+  const double truncation = ctx.job->basis.truncation;
+  kernels::SparseRowMatrix state_kernels;
+  if (point.basis == KernelType::ggk) {
+    state_kernels = kernels::continuous_geodesic_gaussian_kernels(
+        ctx.nearest, ctx.nearest_distance, ctx.center_distances.topRows(point.kernels), point.sigma,
+        truncation);
+  } else {
+    kernels::RowMatrixXd center_vectors(point.kernels, env.state_vectors.cols());
+    for (std::int32_t j = 0; j < point.kernels; ++j) {
+      center_vectors.row(j) = env.state_vectors.row(fit.centers[static_cast<std::size_t>(j)]);
+    }
+    state_kernels = kernels::ordinary_gaussian_kernels(env.state_vectors, center_vectors,
+                                                       point.sigma, truncation);
+  }
+  const kernels::SparseRowMatrix features =
+      ctx.job->basis.scheme == kernels::BasisScheme::shift
+          ? kernels::shift_basis(state_kernels, env.num_actions, ctx.model)
+          : kernels::copy_basis(state_kernels, env.num_actions);
+
+  fit.lspi = kernels::fit_lspi(features, env.num_actions, ctx.batch, lspi_options(*ctx.job, point));
+  fit.status = kernels::to_string(fit.lspi.status);
+  fit.message = fit.lspi.message;
+
+  if (fit.lspi.weights.size() == 0) {
+    set_metrics(kNaN, kNaN, 0.0, {});
+  } else {
+    kernels::RandomStream random = stream_for(ctx.job->seed, ctx.run, Purpose::evaluation,
+                                              static_cast<std::uint32_t>(point.index));
+    std::vector<double> steps;
+    steps.reserve(env.start_states.size());
+    double successes = 0.0, step_sum = 0.0;
+    for (std::int32_t start : env.start_states) {
+      steps.push_back(roll_out(ctx, fit.lspi.policy, start, random, nullptr));
+      if (steps.back() >= 0) {
+        successes += 1.0;
+        step_sum += steps.back();
+      }
+    }
+    std::vector<double> named_steps;
+    for (const auto& [name, start] : env.named_starts) {
+      std::vector<std::int32_t> trajectory;
+      named_steps.push_back(roll_out(ctx, fit.lspi.policy, start, random, &trajectory));
+      fit.arrays.push_back({"trajectory_" + name,
+                            {static_cast<std::int64_t>(trajectory.size())},
+                            std::vector<double>(trajectory.begin(), trajectory.end())});
+    }
+    set_metrics(successes / static_cast<double>(steps.size()),
+                successes > 0 ? step_sum / successes : kNaN,
+                static_cast<double>(fit.lspi.iterations()), named_steps);
+    fit.arrays.push_back({"steps_to_goal", {static_cast<std::int64_t>(steps.size())}, steps});
+    const Eigen::VectorXd values =
+        kernels::state_values(features, env.num_actions, fit.lspi.weights);
+    fit.arrays.push_back({"state_values",
+                          {static_cast<std::int64_t>(values.size())},
+                          std::vector<double>(values.data(), values.data() + values.size())});
+  }
+  fit.fit_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return fit;
+}
+
+}  // namespace
+
+RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscreteProtocol& protocol,
+                                const JobSpec& job, std::int32_t run,
+                                std::span<const SweepPoint> points) {
+  RunRecord record;
+  record.run = run;
+
+  kernels::RandomStream sample_stream = stream_for(job.seed, run, Purpose::samples);
+  const kernels::SampleBatch raw = collect_samples(env, protocol, sample_stream);
+  record.samples = to_sample_record(env, raw);
+
+  // The graph the samples induce: nodes are states, edges observed transitions.
+  std::vector<kernels::NodeTransition> transitions(raw.size());
+  std::vector<std::uint8_t> visited(static_cast<std::size_t>(env.num_states), 0);
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    transitions[i] = {raw.states[i], raw.next_states[i]};
+    visited[static_cast<std::size_t>(raw.states[i])] = 1;
+    visited[static_cast<std::size_t>(raw.next_states[i])] = 1;
+  }
+  record.graph = kernels::transition_graph(env.state_vectors, transitions);
+  record.node_states = env.state_vectors;
+  record.arrays.push_back({"graph/visited",
+                           {static_cast<std::int64_t>(visited.size())},
+                           std::vector<double>(visited.begin(), visited.end())});
+
+  // LSPI learns from the moves that start outside a goal: a walk that goes on
+  // through goals (walk_through_goals) also records moves out of goals, which
+  // belong to no episode and whose features (shift scheme) equal those of the
+  // moves into the goal; they shape the graph only.
+  kernels::SampleBatch episodic;
+  std::vector<std::uint8_t> is_goal(static_cast<std::size_t>(env.num_states), 0);
+  for (std::int32_t g : env.goal_states) is_goal[static_cast<std::size_t>(g)] = 1;
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    if (is_goal[static_cast<std::size_t>(raw.states[i])]) continue;
+    episodic.add(raw.states[i], raw.actions[i], raw.rewards[i], raw.next_states[i],
+                 raw.terminals[i] != 0, raw.weights[i]);
+  }
+  kernels::SampleBatch batch =
+      job.lspi.fold_duplicates ? kernels::fold_duplicate_samples(episodic) : episodic;
+  kernels::EmpiricalTransitionModel model(env.num_states, env.num_actions, batch.states,
+                                          batch.actions, batch.next_states, batch.weights);
+  RunContext ctx{&env, &protocol, &job, run, std::move(batch), std::move(model), 0, {}, {}, {}, {}};
+  ctx.graph_nodes =
+      static_cast<std::int32_t>(std::count(visited.begin(), visited.end(), std::uint8_t{1}));
+  kernels::RandomStream center_stream = stream_for(job.seed, run, Purpose::centers);
+  ctx.centers = center_order(env, visited, center_stream);
+  std::int32_t max_kernels = 0;
+  for (const SweepPoint& p : points) max_kernels = std::max(max_kernels, p.kernels);
+  const auto sources = std::span<const std::int32_t>(ctx.centers)
+                           .first(static_cast<std::size_t>(std::min(max_kernels, ctx.graph_nodes)));
+  ctx.center_distances = kernels::geodesic_distances(record.graph, sources);
+  nearest_visited(env, visited, ctx.nearest, ctx.nearest_distance);
+
+  record.fits.resize(points.size());
+  tbb::parallel_for(std::size_t{0}, points.size(),
+                    [&](std::size_t i) { record.fits[i] = fit_point(ctx, points[i]); });
+  return record;
+}
+
+}  // namespace ggk::engine

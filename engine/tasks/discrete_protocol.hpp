@@ -1,0 +1,73 @@
+#pragma once
+// The experiment protocol shared by tasks with a finite state set (maze, arm):
+// per run, random-walk samples -> graph over visited states -> kernel centres
+// (goals first, then random visited nodes) -> GGK / OGK state kernels -> copy or
+// shift basis (Eq. 9) -> LSPI -> greedy policy tested from every start state.
+//
+// A run's samples, graph, transition model and shortest-path distances are
+// computed once and shared by all its fits (the sweep points), so GGK and OGK are
+// compared on the same samples. Fits run as oneTBB tasks; every random number
+// comes from streams keyed by (seed, run, purpose, sweep point), so the record is
+// identical for any thread count.
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/job/job_spec.hpp"
+#include "engine/job/run_record.hpp"
+#include "engine/job/sweep.hpp"
+#include "kernels/random_stream.hpp"
+
+namespace ggk::engine {
+
+struct Transition {
+  std::int32_t next_state = 0;
+  double reward = 0.0;
+  bool terminal = false;
+};
+
+// A finite environment as the protocol sees it. step must be thread-safe for
+// distinct streams (it is called from parallel tasks).
+struct DiscreteEnvironment {
+  std::int32_t num_states = 0;
+  std::int32_t num_actions = 0;
+  kernels::RowMatrixXd state_vectors;      // num_states x d, for Euclidean distances
+  std::vector<std::int32_t> goal_states;   // sorted
+  std::vector<std::int32_t> start_states;  // series and tests start here (non-goal states)
+  // Start states with a name (the arm's "A"): each adds the metrics
+  // success_from_<name>, steps_from_<name> and the array trajectory_<name>.
+  std::vector<std::pair<std::string, std::int32_t>> named_starts;
+  std::function<Transition(std::int32_t state, std::int32_t action, kernels::RandomStream&)> step;
+};
+
+struct DiscreteProtocol {
+  std::int32_t series = 1;            // random-walk series per run
+  std::int32_t steps_per_series = 1;  // uniformly random actions per series
+  std::int32_t test_max_steps = 100;  // greedy steps allowed to reach a goal
+  // false: a series restarts from a random start after entering a goal (maze).
+  // true: the walk goes on from the goal (its moves are sampled as terminal,
+  // reward-0 transitions), so every goal joins the graph and can be a centre, as
+  // the arm protocol of the paper needs (all 16 goals are centres).
+  bool walk_through_goals = false;
+};
+
+// Per-fit metrics of this protocol, in summary-column order; the metrics of the
+// named starts follow them.
+inline const std::vector<std::string>& discrete_metric_names() {
+  static const std::vector<std::string> names = {"success_rate", "mean_steps_to_goal",
+                                                 "lspi_iterations", "graph_nodes"};
+  return names;
+}
+
+// Runs one run of the protocol for every sweep point. Throws only on programmer
+// errors; a fit that cannot start (more kernels than graph nodes) or whose LSPI
+// system fails is recorded with its status and message.
+RunRecord run_discrete_protocol(const DiscreteEnvironment& environment,
+                                const DiscreteProtocol& protocol, const JobSpec& job,
+                                std::int32_t run, std::span<const SweepPoint> points);
+
+}  // namespace ggk::engine

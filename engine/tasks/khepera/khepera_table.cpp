@@ -1,0 +1,453 @@
+#include "engine/tasks/khepera/khepera_table.hpp"
+
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "sims/khepera/khepera.hpp"
+
+namespace ggk::engine {
+namespace {
+
+namespace khepera = sims::khepera;
+
+constexpr std::array<std::string_view, 11> kKheperaKeys = {
+    "arena_file",     "arena",         "series", "steps_per_series",
+    "test_max_steps", "test_episodes", "robot",  "sensors",
+    "motion",         "rewards",       "som"};
+constexpr std::array<std::string_view, 5> kArenaKeys = {"min", "max", "walled", "start",
+                                                        "obstacles"};
+constexpr std::array<std::string_view, 3> kStartKeys = {"x", "y", "heading_deg"};
+constexpr std::array<std::string_view, 9> kObstacleKeys = {
+    "kind", "a", "b", "min", "max", "center", "size", "angle_deg", "radius"};
+constexpr std::array<std::string_view, 4> kObstacleKinds = {"segment", "rectangle",
+                                                            "rotated_rectangle", "disc"};
+constexpr std::array<std::string_view, 3> kSegmentKeys = {"kind", "a", "b"};
+constexpr std::array<std::string_view, 3> kRectangleKeys = {"kind", "min", "max"};
+constexpr std::array<std::string_view, 4> kRotatedRectangleKeys = {"kind", "center", "size",
+                                                                   "angle_deg"};
+constexpr std::array<std::string_view, 3> kDiscKeys = {"kind", "center", "radius"};
+constexpr std::array<std::string_view, 3> kRobotKeys = {"radius", "wheel_base", "sensors"};
+constexpr std::array<std::string_view, 7> kSensorModelKeys = {
+    "range", "side_ray_deg", "response_m", "response_x0", "response_c", "noise_sd", "max_reading"};
+constexpr std::array<std::string_view, 4> kMotionKeys = {"step_cm", "turn_deg", "wheel_noise",
+                                                         "collision_substeps"};
+constexpr std::array<std::string_view, 2> kRewardKeys = {"forward", "collision"};
+constexpr std::array<std::string_view, 8> kSomKeys = {"rows",           "cols",
+                                                      "epochs",         "initial_radius",
+                                                      "final_radius",   "radius_schedule",
+                                                      "initialization", "grid_from_samples"};
+constexpr std::array<std::string_view, 2> kRadiusSchedules = {"exponential", "linear"};
+constexpr std::array<std::string_view, 2> kInitializations = {"principal_components",
+                                                              "random_samples"};
+constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
+
+// The keys of one obstacle kind, and how a message lists them.
+struct ObstacleKind {
+  std::string_view name;
+  std::span<const std::string_view> keys;
+  std::string_view listed;
+};
+constexpr std::array<ObstacleKind, 4> kObstacleKindKeys = {{
+    {"segment", kSegmentKeys, "kind, a, b"},
+    {"rectangle", kRectangleKeys, "kind, min, max"},
+    {"rotated_rectangle", kRotatedRectangleKeys, "kind, center, size, angle_deg"},
+    {"disc", kDiscKeys, "kind, center, radius"},
+}};
+
+// The value of a number node (integer or float), if it is one.
+std::optional<double> number_value(const toml::node& node) {
+  if (const auto* integer = node.as_integer()) return static_cast<double>(integer->get());
+  if (const auto* floating = node.as_floating_point()) return floating->get();
+  return std::nullopt;
+}
+
+// An array of exactly `size` elements at `key`, or a JobError. `what` says what
+// the elements are ("numbers [x, y]").
+const toml::array& sized_array(const TomlTableReader& table, std::string_view key, std::size_t size,
+                               const std::string& what) {
+  const toml::node* node = table.find(key);
+  if (node == nullptr) table.fail(key, "required key is missing (expected " + what + ")");
+  const toml::array* array = node->as_array();
+  if (array == nullptr || array->size() != size) {
+    const std::string got = array == nullptr ? describe_value(*node)
+                            : array->size() == 1
+                                ? "an array of 1 element"
+                                : "an array of " + std::to_string(array->size()) + " elements";
+    table.fail(key, "expected an array of " + std::to_string(size) + " " + what + ", got " + got);
+  }
+  return *array;
+}
+
+// The numbers of `array`, each in `range`; names[i] names element i in messages.
+template <std::size_t N>
+std::array<double, N> numbers_of(const TomlTableReader& table, std::string_view key,
+                                 const toml::array& array, std::array<std::string_view, N> names,
+                                 NumberRange range, std::string_view expectation) {
+  std::array<double, N> values{};
+  for (std::size_t i = 0; i < N; ++i) {
+    const toml::node& element = array[i];
+    const std::optional<double> value = number_value(element);
+    if (!value || !range.contains(*value)) {
+      table.fail_at(element, key,
+                    "expected " + std::string(expectation) + " for " + std::string(names[i]) +
+                        ", got " + describe_value(element));
+    }
+    values[i] = *value;
+  }
+  return values;
+}
+
+// [x, y] of finite numbers; required unless a fallback is given.
+khepera::Point2 point(const TomlTableReader& table, std::string_view key,
+                      std::optional<khepera::Point2> fallback = {}) {
+  if (!table.has(key) && fallback) return *fallback;
+  const toml::array& array = sized_array(table, key, 2, "numbers [x, y]");
+  const auto xy = numbers_of<2>(table, key, array, {"x", "y"}, NumberRange{}, "a finite number");
+  return {xy[0], xy[1]};
+}
+
+// The reader of a sub-table given inline or as [table]: `key` must hold a table.
+TomlTableReader required_subtable(const TomlTableReader& table, std::string_view key,
+                                  std::span<const std::string_view> known_keys,
+                                  const std::string& example) {
+  std::optional<TomlTableReader> sub = table.subtable(key, known_keys);
+  if (!sub) table.fail(key, "required key is missing (expected " + example + ")");
+  return std::move(*sub);
+}
+
+khepera::Shape obstacle(const TomlTableReader& table) {
+  const std::string kind = table.choice("kind", kObstacleKinds);
+  const ObstacleKind& own = *std::find_if(kObstacleKindKeys.begin(), kObstacleKindKeys.end(),
+                                          [&](const ObstacleKind& k) { return k.name == kind; });
+  // Keys of another kind are errors, not silently ignored.
+  for (const std::string_view key : kObstacleKeys) {
+    if (table.has(key) && std::find(own.keys.begin(), own.keys.end(), key) == own.keys.end()) {
+      table.fail(key, "a " + kind + " has no key '" + std::string(key) +
+                          "' (its keys: " + std::string(own.listed) + ")");
+    }
+  }
+  if (kind == "segment") {
+    const khepera::Point2 a = point(table, "a");
+    const khepera::Point2 b = point(table, "b");
+    if (a == b) table.fail("b", "expected the segment's ends a and b to differ");
+    return khepera::Segment{a, b};
+  }
+  if (kind == "rectangle") {
+    const khepera::Point2 min = point(table, "min");
+    const khepera::Point2 max = point(table, "max");
+    if (!(min.x < max.x && min.y < max.y)) {
+      table.fail("max", "expected max > min in both coordinates (the rectangle's corners)");
+    }
+    return khepera::Rectangle{min, max};
+  }
+  if (kind == "rotated_rectangle") {
+    const khepera::Point2 center = point(table, "center");
+    const toml::array& size = sized_array(table, "size", 2, "numbers [width, height]");
+    const auto wh = numbers_of<2>(table, "size", size, {"width", "height"}, NumberRange::above(0.0),
+                                  "a length > 0.0");
+    const double angle = table.number("angle_deg", NumberRange{}, 0.0);
+    return khepera::RotatedRectangle{center, wh[0], wh[1], angle};
+  }
+  return khepera::Disc{point(table, "center"), table.number("radius", NumberRange::above(0.0))};
+}
+
+// The readers of the obstacles tables ([[...obstacles]]), in file order.
+std::vector<TomlTableReader> obstacle_tables(const TomlTableReader& arena) {
+  std::vector<TomlTableReader> readers;
+  const toml::node* node = arena.find("obstacles");
+  if (node == nullptr) return readers;
+  const toml::array* array = node->as_array();
+  if (array == nullptr) {
+    arena.fail("obstacles", "expected an array of tables ([[" + arena.key_path("obstacles") +
+                                "]]), got " + describe_value(*node));
+  }
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const toml::table* element = (*array)[i].as_table();
+    if (element == nullptr) {
+      arena.fail_at((*array)[i], "obstacles",
+                    "expected a table with kind = \"segment\", \"rectangle\", "
+                    "\"rotated_rectangle\" or \"disc\", got " +
+                        describe_value((*array)[i]));
+    }
+    readers.emplace_back(*element, arena.key_path("obstacles") + "[" + std::to_string(i) + "]",
+                         arena.file(), kObstacleKeys);
+  }
+  return readers;
+}
+
+// The arena's readers: its table and its obstacles, kept for reporting what the
+// built simulator finds wrong.
+struct ArenaTables {
+  TomlTableReader arena;
+  std::vector<TomlTableReader> obstacles;
+};
+
+khepera::Arena parse_arena(const ArenaTables& tables) {
+  const TomlTableReader& table = tables.arena;
+  khepera::Arena arena;
+  arena.min = point(table, "min");
+  arena.max = point(table, "max");
+  if (!(arena.min.x < arena.max.x && arena.min.y < arena.max.y)) {
+    table.fail("max", "expected max > min in both coordinates (the arena's box)");
+  }
+  arena.walled = table.boolean("walled", arena.walled);
+  const TomlTableReader start =
+      required_subtable(table, "start", kStartKeys, "a table { x, y, heading_deg }");
+  arena.start.x = start.number("x", NumberRange{});
+  arena.start.y = start.number("y", NumberRange{});
+  arena.start.heading = khepera::degrees_to_radians(start.number("heading_deg", NumberRange{}));
+  for (const TomlTableReader& reader : tables.obstacles) {
+    arena.obstacles.push_back(obstacle(reader));
+  }
+  return arena;
+}
+
+// Eight [x, y, heading_deg] mountings.
+std::array<khepera::IrSensor, khepera::kNumSensors> sensor_mountings(const TomlTableReader& robot) {
+  const std::string what = "arrays [x, y, heading_deg] (s0..s7)";
+  const toml::array& array =
+      sized_array(robot, "sensors", static_cast<std::size_t>(khepera::kNumSensors), what);
+  std::array<khepera::IrSensor, khepera::kNumSensors> sensors{};
+  for (std::size_t i = 0; i < sensors.size(); ++i) {
+    const toml::array* mounting = array[i].as_array();
+    if (mounting == nullptr || mounting->size() != 3) {
+      robot.fail_at(array[i], "sensors",
+                    "expected sensor s" + std::to_string(i) + " as [x, y, heading_deg], got " +
+                        describe_value(array[i]) +
+                        (mounting ? " of " + std::to_string(mounting->size()) + " elements" : ""));
+    }
+    const auto values = numbers_of<3>(robot, "sensors", *mounting, {"x", "y", "heading_deg"},
+                                      NumberRange{}, "a finite number");
+    sensors[i] = {values[0], values[1], values[2]};
+  }
+  return sensors;
+}
+
+khepera::RobotBody parse_robot(const TomlTableReader& robot) {
+  khepera::RobotBody body;
+  body.radius = robot.number("radius", NumberRange::above(0.0), body.radius);
+  body.wheel_base = robot.number("wheel_base", NumberRange::above(0.0), body.wheel_base);
+  if (robot.has("sensors")) body.sensors = sensor_mountings(robot);
+  return body;
+}
+
+khepera::SensorModel parse_sensor_model(const TomlTableReader& table) {
+  khepera::SensorModel model;
+  model.range = table.number("range", NumberRange::above(0.0), model.range);
+  model.side_ray_deg =
+      table.number("side_ray_deg", NumberRange::half_open(0.0, 90.0), model.side_ray_deg);
+  model.response_m = table.number("response_m", NumberRange::above(0.0), model.response_m);
+  model.response_x0 = table.number("response_x0", NumberRange{}, model.response_x0);
+  model.response_c = table.number("response_c", NumberRange{}, model.response_c);
+  model.noise_sd = table.number("noise_sd", NumberRange::at_least(0.0), model.noise_sd);
+  model.max_reading = table.number("max_reading", NumberRange::above(0.0), model.max_reading);
+  return model;
+}
+
+khepera::MotionModel parse_motion(const TomlTableReader& table) {
+  khepera::MotionModel motion;
+  motion.step_cm = table.number("step_cm", NumberRange::above(0.0), motion.step_cm);
+  motion.turn_deg = table.number("turn_deg", NumberRange::open(0.0, 180.0), motion.turn_deg);
+  motion.wheel_noise =
+      table.number("wheel_noise", NumberRange::half_open(0.0, 1.0), motion.wheel_noise);
+  motion.collision_substeps = static_cast<std::int32_t>(
+      table.integer("collision_substeps", {1, 1000}, motion.collision_substeps));
+  return motion;
+}
+
+khepera::Rewards parse_rewards(const TomlTableReader& table) {
+  khepera::Rewards rewards;
+  rewards.forward = table.number("forward", NumberRange{}, rewards.forward);
+  rewards.collision = table.number("collision", NumberRange{}, rewards.collision);
+  return rewards;
+}
+
+// [khepera.som]; `readings` = readings per run (series x (steps_per_series + 1)),
+// the SOM's training set. `khepera` is the [khepera] table (for messages about
+// the default grid).
+void parse_som(const TomlTableReader& khepera, const TomlTableReader& table, std::int64_t readings,
+               KheperaTaskConfig& config) {
+  kernels::SomOptions& som = config.som;
+  config.som_grid_from_samples = table.boolean("grid_from_samples", false);
+  if (config.som_grid_from_samples) {
+    for (const std::string_view key : {"rows", "cols"}) {
+      if (table.has(key)) {
+        table.fail(key,
+                   "the grid is derived from the samples (grid_from_samples = true); "
+                   "remove rows and cols, or set grid_from_samples = false");
+      }
+    }
+  } else {
+    som.rows = static_cast<std::int32_t>(table.integer("rows", {1, kInt32Max}, som.rows));
+    som.cols = static_cast<std::int32_t>(table.integer("cols", {1, kInt32Max}, som.cols));
+    const std::int64_t units = std::int64_t{som.rows} * som.cols;
+    if (units > readings) {
+      const std::string detail =
+          "rows x cols = " + std::to_string(som.rows) + " x " + std::to_string(som.cols) + " = " +
+          std::to_string(units) + " units, more than the " + std::to_string(readings) +
+          " readings per run (series x (steps_per_series + 1)) the map is trained on";
+      if (table.has("rows")) table.fail("rows", detail);
+      if (table.has("cols")) table.fail("cols", detail);
+      // The default grid: blame the protocol that made the run too small.
+      const std::string hint = "; set [khepera.som] rows and cols, or grid_from_samples = true";
+      if (khepera.has("steps_per_series")) khepera.fail("steps_per_series", detail + hint);
+      if (khepera.has("series")) khepera.fail("series", detail + hint);
+      khepera.fail_table(detail + hint);
+    }
+  }
+  som.epochs = static_cast<std::int32_t>(table.integer("epochs", {1, kInt32Max}, som.epochs));
+  som.final_radius = table.number("final_radius", NumberRange::above(0.0), som.final_radius);
+  if (table.has("initial_radius")) {
+    som.initial_radius = table.number("initial_radius", NumberRange::above(0.0));
+    if (*som.initial_radius < som.final_radius) {
+      const std::string final_radius = table.has("final_radius")
+                                           ? describe_value(*table.find("final_radius"))
+                                           : "1.0, its default";
+      table.fail("initial_radius", "expected a number >= final_radius (" + final_radius +
+                                       "), got " + describe_value(*table.find("initial_radius")));
+    }
+  }
+  som.radius_schedule = table.choice("radius_schedule", kRadiusSchedules, "exponential") == "linear"
+                            ? kernels::SomRadiusSchedule::linear
+                            : kernels::SomRadiusSchedule::exponential;
+  som.initialization =
+      table.choice("initialization", kInitializations, "principal_components") == "random_samples"
+          ? kernels::SomInitialization::random_samples
+          : kernels::SomInitialization::principal_components;
+}
+
+// Builds the simulator once; what check_config or the constructor rejects is
+// reported at the key that set the part at fault.
+void check_simulator(const khepera::KheperaConfig& config, const TomlTableReader& table,
+                     const TomlTableReader& robot, const TomlTableReader& sensors,
+                     const TomlTableReader& motion, const TomlTableReader& rewards,
+                     const ArenaTables& arena) {
+  using Field = khepera::KheperaConfigField;
+  try {
+    khepera::check_config(config);
+    const khepera::Khepera built(config);
+  } catch (const khepera::KheperaConfigError& error) {
+    const std::string detail = error.what();
+    const auto index = static_cast<std::size_t>(std::max(error.index(), 0));
+    switch (error.field()) {
+      case Field::body:
+        robot.fail_table(detail);
+      case Field::sensors:
+        if (const toml::node* node = robot.find("sensors");
+            node && node->as_array() && index < node->as_array()->size()) {
+          robot.fail_at((*node->as_array())[index], "sensors", detail);
+        }
+        // The default mountings: the body radius is too small for them.
+        robot.fail("radius", detail +
+                                 " (the default Khepera I mountings; give sensors for a "
+                                 "smaller body)");
+      case Field::sensor_model:
+        sensors.fail(sensors.has("response_c") ? "response_c" : "response_x0", detail);
+      case Field::motion:
+        motion.fail_table(detail);
+      case Field::rewards:
+        rewards.fail_table(detail);
+      case Field::arena_box:
+        arena.arena.fail("max", detail);
+      case Field::obstacles:
+        if (index < arena.obstacles.size()) arena.obstacles[index].fail_table(detail);
+        arena.arena.fail("obstacles", detail);
+      case Field::start:
+        arena.arena.fail("start", detail);
+      case Field::protocol:
+        table.fail("steps_per_series", detail);
+    }
+    table.fail_table(detail);
+  }
+}
+
+}  // namespace
+
+KheperaTaskConfig parse_khepera_table(const TomlTableReader& job,
+                                      const std::filesystem::path& job_dir,
+                                      std::vector<JobInput>& inputs) {
+  const std::optional<TomlTableReader> table = job.subtable("khepera", kKheperaKeys);
+  if (!table) job.fail("khepera", "required table [khepera] is missing (task = \"khepera\")");
+  KheperaTaskConfig config;
+  khepera::KheperaConfig& simulator = config.simulator;
+
+  // The protocol first: the SOM's size is checked against it.
+  simulator.series =
+      static_cast<std::int32_t>(table->integer("series", {1, kInt32Max}, simulator.series));
+  simulator.steps_per_series = static_cast<std::int32_t>(
+      table->integer("steps_per_series", {1, kInt32Max}, simulator.steps_per_series));
+  simulator.test_max_steps = static_cast<std::int32_t>(
+      table->integer("test_max_steps", {1, kInt32Max}, simulator.test_max_steps));
+  simulator.test_episodes = static_cast<std::int32_t>(
+      table->integer("test_episodes", {1, kInt32Max}, simulator.test_episodes));
+  // Reading ids are 32-bit: a run's readings (each series' start and one per step)
+  // must fit.
+  const std::int64_t readings = std::int64_t{simulator.series} * (simulator.steps_per_series + 1);
+  if (readings > kInt32Max) {
+    table->fail("steps_per_series",
+                "series x (steps_per_series + 1) = " + std::to_string(readings) +
+                    " readings per run, more than " + std::to_string(kInt32Max));
+  }
+
+  const TomlTableReader robot = table->subtable_or_empty("robot", kRobotKeys);
+  simulator.body = parse_robot(robot);
+  const TomlTableReader sensors = table->subtable_or_empty("sensors", kSensorModelKeys);
+  simulator.sensors = parse_sensor_model(sensors);
+  const TomlTableReader motion = table->subtable_or_empty("motion", kMotionKeys);
+  simulator.motion = parse_motion(motion);
+  const TomlTableReader rewards = table->subtable_or_empty("rewards", kRewardKeys);
+  simulator.rewards = parse_rewards(rewards);
+  parse_som(*table, table->subtable_or_empty("som", kSomKeys), readings, config);
+
+  // The arena: exactly one of [khepera.arena] and arena_file.
+  if (table->has("arena") && table->has("arena_file")) {
+    table->fail("arena_file", "give either arena_file or a [khepera.arena] table, not both");
+  }
+  if (table->has("arena")) {
+    ArenaTables arena{required_subtable(*table, "arena", kArenaKeys, "a table"), {}};
+    arena.obstacles = obstacle_tables(arena.arena);
+    simulator.arena = parse_arena(arena);
+    check_simulator(simulator, *table, robot, sensors, motion, rewards, arena);
+    return config;
+  }
+  if (!table->has("arena_file")) {
+    table->fail_table(
+        "the arena is missing: give arena_file = \"arenas/default.toml\" (relative to the job "
+        "file) or a [khepera.arena] table");
+  }
+  const std::string arena_file = table->string("arena_file");
+  if (arena_file.empty()) table->fail("arena_file", "expected a file name, got \"\"");
+  inputs.push_back(read_job_input(*table, "arena_file", job_dir, arena_file, "arena file"));
+  const std::string& text = inputs.back().text;
+  // Errors inside the arena file name that file, its line and its key, and say
+  // which job read it.
+  const std::string file = inputs.back().path;
+  try {
+    toml::table root;
+    try {
+      root = toml::parse(std::string_view(text), std::string_view(file));
+    } catch (const toml::parse_error& error) {
+      throw JobError(file, location_of(error.source()), "",
+                     "TOML syntax error: " + std::string(error.description()));
+    }
+    ArenaTables arena{TomlTableReader(root, "", file, kArenaKeys), {}};
+    arena.obstacles = obstacle_tables(arena.arena);
+    simulator.arena = parse_arena(arena);
+    check_simulator(simulator, *table, robot, sensors, motion, rewards, arena);
+  } catch (const JobError& error) {
+    if (error.file() != file) throw;
+    throw JobError(error.file(), {error.line(), error.column()}, error.key_path(),
+                   error.detail() + " (the arena_file of " + single_quoted(table->file()) + ")");
+  }
+  return config;
+}
+
+}  // namespace ggk::engine

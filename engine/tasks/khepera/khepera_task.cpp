@@ -1,0 +1,368 @@
+#include "engine/tasks/khepera/khepera_task.hpp"
+
+#include "engine/tasks/khepera/khepera_table.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numeric>
+
+#include <tbb/parallel_for.h>
+
+#include "engine/tasks/seeds.hpp"
+#include "kernels/gaussian_kernels.hpp"
+#include "kernels/lspi.hpp"
+#include "kernels/shortest_paths.hpp"
+#include "kernels/state_action_basis.hpp"
+#include "kernels/transition_model.hpp"
+#include "sims/khepera/khepera.hpp"
+
+namespace ggk::engine {
+
+namespace {
+
+namespace khepera = sims::khepera;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The random walks. States are the readings in series order: reading t of series
+// k is state k * (steps + 1) + t; sample (k, t) goes from state (k, t) to (k, t + 1).
+struct Walks {
+  kernels::RowMatrixXd readings;  // states x 8
+  kernels::SampleBatch batch;
+  std::vector<double> collisions;  // per sample, 1 if the step was undone
+};
+
+Walks random_walks(const khepera::Khepera& robot, kernels::RandomStream& random) {
+  const auto& c = robot.config();
+  const std::int32_t per_series = c.steps_per_series + 1;
+  Walks walks;
+  walks.readings.resize(static_cast<Eigen::Index>(c.series) * per_series, khepera::kNumSensors);
+  for (std::int32_t series = 0; series < c.series; ++series) {
+    khepera::Pose pose = robot.sample_free_pose(random);
+    const std::int32_t first = series * per_series;
+    const khepera::Readings start = robot.sense(pose, random);
+    for (std::int32_t d = 0; d < khepera::kNumSensors; ++d) walks.readings(first, d) = start[d];
+    for (std::int32_t t = 0; t < c.steps_per_series; ++t) {
+      const auto action = static_cast<std::int32_t>(random.uniform_index(robot.num_actions()));
+      const khepera::StepResult r = robot.step(pose, action, random);
+      for (std::int32_t d = 0; d < khepera::kNumSensors; ++d) {
+        walks.readings(first + t + 1, d) = r.observation[d];
+      }
+      walks.batch.add(first + t, action, r.reward, first + t + 1, false);
+      walks.collisions.push_back(r.collided ? 1.0 : 0.0);
+      pose = r.next_pose;
+    }
+  }
+  return walks;
+}
+
+// Everything the fits of a run share.
+struct RunContext {
+  const khepera::Khepera* robot;
+  const JobSpec* job;
+  std::int32_t run;
+  const Walks* walks;
+  const kernels::SelfOrganizingMap* som;
+  kernels::BestMatches state_units;       // best-matching unit of every state
+  std::vector<std::int32_t> centers;      // centre order over occupied units
+  kernels::RowMatrixXd center_distances;  // shortest paths from the first centres
+  std::int32_t graph_nodes = 0;           // occupied units
+  std::vector<std::uint8_t> occupied;     // per unit: the best match of some sample
+  kernels::SampleBatch batch;             // the walks' samples, folded if the job asks
+  std::unique_ptr<kernels::EmpiricalTransitionModel> model;  // for the shift scheme
+};
+
+// K(s, c_j) of a fit for one reading, with the same arithmetic as the batch
+// kernel functions (so a state's features equal its row of the table).
+class ReadingKernels {
+ public:
+  ReadingKernels(const RunContext& ctx, const SweepPoint& point,
+                 std::span<const std::int32_t> centers)
+      : ctx_(ctx), point_(point), centers_(centers) {}
+
+  Eigen::VectorXd operator()(std::span<const double> reading) const {
+    const auto p = static_cast<Eigen::Index>(centers_.size());
+    Eigen::VectorXd k(p);
+    const double truncation = ctx_.job->basis.truncation;
+    if (point_.basis == KernelType::ggk) {
+      const kernels::BestMatch bmu = nearest_graph_node(reading);
+      for (Eigen::Index j = 0; j < p; ++j) {
+        k(j) = kernels::gaussian(bmu.distance + ctx_.center_distances(j, bmu.unit), point_.sigma);
+      }
+    } else {
+      const Eigen::Map<const Eigen::RowVectorXd> x(reading.data(),
+                                                   static_cast<Eigen::Index>(reading.size()));
+      for (Eigen::Index j = 0; j < p; ++j) {
+        k(j) = kernels::gaussian(
+            (x - ctx_.som->prototypes().row(centers_[static_cast<std::size_t>(j)])).norm(),
+            point_.sigma);
+      }
+    }
+    for (Eigen::Index j = 0; j < p; ++j) {
+      if (!(k(j) > 0.0 && k(j) >= truncation)) k(j) = 0.0;
+    }
+    return k;
+  }
+
+ private:
+  // n(s) of the continuous GGK: the nearest unit that is a node of the sample
+  // graph. A unit no sample maps to is isolated (every shortest path from a centre
+  // to it is infinite), so a reading whose best match is such a unit falls back to
+  // the nearest occupied unit instead of getting all-zero features. For the
+  // samples' own readings this is their best match.
+  kernels::BestMatch nearest_graph_node(std::span<const double> reading) const {
+    const kernels::BestMatch bmu = ctx_.som->best_matching_unit(reading);
+    if (ctx_.occupied[static_cast<std::size_t>(bmu.unit)]) return bmu;
+    const Eigen::Map<const Eigen::RowVectorXd> x(reading.data(),
+                                                 static_cast<Eigen::Index>(reading.size()));
+    kernels::BestMatch best{-1, std::numeric_limits<double>::infinity()};
+    for (std::int32_t u = 0; u < ctx_.som->num_units(); ++u) {
+      if (!ctx_.occupied[static_cast<std::size_t>(u)]) continue;
+      const double d = (x - ctx_.som->prototypes().row(u)).norm();
+      if (d < best.distance) best = {u, d};
+    }
+    return best;
+  }
+
+  const RunContext& ctx_;
+  const SweepPoint& point_;
+  std::span<const std::int32_t> centers_;
+};
+
+// Greedy action for kernel values k under the copy scheme: argmax_a w_a . k, ties
+// to the lowest action (as kernels::greedy_policy).
+std::int32_t greedy_action(const Eigen::VectorXd& weights, const Eigen::VectorXd& k,
+                           std::int32_t num_actions) {
+  const Eigen::Index p = k.size();
+  std::int32_t best = 0;
+  double best_q = -std::numeric_limits<double>::infinity();
+  for (std::int32_t a = 0; a < num_actions; ++a) {
+    const double q = weights.segment(a * p, p).dot(k);
+    if (q > best_q) {
+      best_q = q;
+      best = a;
+    }
+  }
+  return best;
+}
+
+FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
+  const auto started = std::chrono::steady_clock::now();
+  const khepera::Khepera& robot = *ctx.robot;
+  const std::int32_t m = robot.num_actions();
+  FitRecord fit;
+  fit.point = point;
+  const auto& names = khepera_metric_names();
+  auto set_metrics = [&](double mean_return, double collision_fraction, double mean_steps) {
+    fit.metrics = {{names[0], mean_return},
+                   {names[1], collision_fraction},
+                   {names[2], mean_steps},
+                   {names[3], static_cast<double>(fit.lspi.iterations())},
+                   {names[4], static_cast<double>(ctx.graph_nodes)}};
+  };
+  if (point.kernels > ctx.graph_nodes) {
+    fit.status = "invalid";
+    fit.message = "run " + std::to_string(ctx.run) + ": " + std::to_string(point.kernels) +
+                  " kernels requested but only " + std::to_string(ctx.graph_nodes) +
+                  " SOM units hold samples";
+    set_metrics(kNaN, kNaN, kNaN);
+    return fit;
+  }
+  fit.centers.assign(ctx.centers.begin(), ctx.centers.begin() + point.kernels);
+  const double truncation = ctx.job->basis.truncation;
+
+  // State kernels of every reading of the walks.
+  kernels::SparseRowMatrix state_kernels;
+  if (point.basis == KernelType::ggk) {
+    state_kernels = kernels::continuous_geodesic_gaussian_kernels(
+        ctx.state_units.units, ctx.state_units.distances,
+        ctx.center_distances.topRows(point.kernels), point.sigma, truncation);
+  } else {
+    kernels::RowMatrixXd center_vectors(point.kernels, khepera::kNumSensors);
+    for (std::int32_t j = 0; j < point.kernels; ++j) {
+      center_vectors.row(j) = ctx.som->prototypes().row(fit.centers[static_cast<std::size_t>(j)]);
+    }
+    state_kernels = kernels::ordinary_gaussian_kernels(ctx.walks->readings, center_vectors,
+                                                       point.sigma, truncation);
+  }
+  const kernels::SparseRowMatrix features = ctx.job->basis.scheme == kernels::BasisScheme::shift
+                                                ? kernels::shift_basis(state_kernels, m, *ctx.model)
+                                                : kernels::copy_basis(state_kernels, m);
+
+  fit.lspi = kernels::fit_lspi(features, m, ctx.batch, lspi_options(*ctx.job, point));
+  fit.status = kernels::to_string(fit.lspi.status);
+  fit.message = fit.lspi.message;
+  if (fit.lspi.weights.size() == 0) {
+    set_metrics(kNaN, kNaN, kNaN);
+    return fit;
+  }
+
+  // Greedy episodes from the start pose. A reading off the sample set is
+  // featurised with the copy scheme (no transition model exists for it).
+  const ReadingKernels kernels_of(ctx, point, fit.centers);
+  kernels::RandomStream random = stream_for(ctx.job->seed, ctx.run, Purpose::evaluation,
+                                            static_cast<std::uint32_t>(point.index));
+  const auto& c = robot.config();
+  std::vector<double> returns, steps_survived;
+  std::int32_t collided_episodes = 0;
+  for (std::int32_t episode = 0; episode < c.test_episodes; ++episode) {
+    khepera::Pose pose = robot.start_pose();
+    khepera::Readings reading = robot.sense(pose, random);
+    NamedArray trajectory{"evaluation/trajectory_" + std::to_string(episode), {0, 3}, {}};
+    trajectory.values.insert(trajectory.values.end(), {pose.x, pose.y, pose.heading});
+    double total = 0.0;
+    std::int32_t steps = 0;
+    for (; steps < c.test_max_steps; ++steps) {
+      const std::int32_t action = greedy_action(fit.lspi.weights, kernels_of(reading), m);
+      const khepera::StepResult r = robot.step(pose, action, random);
+      total += r.reward;
+      pose = r.next_pose;
+      reading = r.observation;
+      trajectory.values.insert(trajectory.values.end(), {pose.x, pose.y, pose.heading});
+      if (r.collided) {
+        ++collided_episodes;
+        ++steps;
+        break;
+      }
+    }
+    trajectory.shape[0] = static_cast<std::int64_t>(trajectory.values.size() / 3);
+    fit.arrays.push_back(std::move(trajectory));
+    returns.push_back(total);
+    steps_survived.push_back(steps);
+  }
+  const auto episodes = static_cast<double>(c.test_episodes);
+  set_metrics(std::accumulate(returns.begin(), returns.end(), 0.0) / episodes,
+              collided_episodes / episodes,
+              std::accumulate(steps_survived.begin(), steps_survived.end(), 0.0) / episodes);
+  fit.arrays.push_back(
+      {"evaluation/returns", {static_cast<std::int64_t>(returns.size())}, returns});
+
+  // Fig. 5: the greedy action at every SOM unit's prototype.
+  NamedArray unit_policy{"unit_policy", {ctx.som->num_units()}, {}};
+  for (std::int32_t u = 0; u < ctx.som->num_units(); ++u) {
+    const auto row = ctx.som->prototypes().row(u);
+    const std::vector<double> prototype(row.data(), row.data() + row.size());
+    unit_policy.values.push_back(greedy_action(fit.lspi.weights, kernels_of(prototype), m));
+  }
+  fit.arrays.push_back(std::move(unit_policy));
+  fit.fit_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return fit;
+}
+
+}  // namespace
+
+RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::int32_t run,
+                      std::span<const SweepPoint> points) {
+  const khepera::Khepera robot(config.simulator);
+  RunRecord record;
+  record.run = run;
+
+  kernels::RandomStream sample_stream = stream_for(job.seed, run, Purpose::samples);
+  const Walks walks = random_walks(robot, sample_stream);
+  const kernels::SampleBatch& batch = walks.batch;
+  record.samples.actions = batch.actions;
+  record.samples.rewards = batch.rewards;
+  record.samples.terminals = batch.terminals;
+  record.samples.observations.resize(static_cast<Eigen::Index>(batch.size()), khepera::kNumSensors);
+  record.samples.next_observations.resize(static_cast<Eigen::Index>(batch.size()),
+                                          khepera::kNumSensors);
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    const auto row = static_cast<Eigen::Index>(i);
+    record.samples.observations.row(row) = walks.readings.row(batch.states[i]);
+    record.samples.next_observations.row(row) = walks.readings.row(batch.next_states[i]);
+  }
+  record.arrays.push_back({"samples/collisions",
+                           {static_cast<std::int64_t>(walks.collisions.size())},
+                           walks.collisions});
+
+  // The SOM on every reading of the walks (paper: 24 x 29 units for 20,000 samples).
+  kernels::SomOptions som_options = config.som;
+  if (config.som_grid_from_samples) {
+    const kernels::SomGrid grid = kernels::som_grid_for(walks.readings);
+    som_options.rows = grid.rows;
+    som_options.cols = grid.cols;
+  }
+  kernels::RandomStream som_stream = stream_for(job.seed, run, Purpose::model);
+  const kernels::SelfOrganizingMap som =
+      kernels::train_self_organizing_map(walks.readings, som_options, &som_stream);
+  const auto& prototypes = som.prototypes();
+  record.arrays.push_back(
+      {"som/prototypes",
+       {prototypes.rows(), prototypes.cols()},
+       std::vector<double>(prototypes.data(), prototypes.data() + prototypes.size())});
+  const kernels::RowMatrixXd grid = som.grid_coordinates();
+  record.arrays.push_back({"som/grid",
+                           {grid.rows(), grid.cols()},
+                           std::vector<double>(grid.data(), grid.data() + grid.size())});
+  record.arrays.push_back({"som/quantization_error",
+                           {static_cast<std::int64_t>(som.quantization_errors().size())},
+                           som.quantization_errors()});
+
+  RunContext ctx;
+  ctx.robot = &robot;
+  ctx.job = &job;
+  ctx.run = run;
+  ctx.walks = &walks;
+  ctx.som = &som;
+  ctx.state_units = som.best_matching_units(walks.readings);
+  ctx.batch = job.lspi.fold_duplicates ? kernels::fold_duplicate_samples(batch) : batch;
+
+  // The graph over units: BMU(s) -> BMU(s') per sample, weight = prototype distance.
+  std::vector<kernels::NodeTransition> transitions(batch.size());
+  std::vector<std::uint8_t> occupied(static_cast<std::size_t>(som.num_units()), 0);
+  for (std::size_t i = 0; i < batch.size(); ++i) {
+    const std::int32_t from = ctx.state_units.units[static_cast<std::size_t>(batch.states[i])];
+    const std::int32_t to = ctx.state_units.units[static_cast<std::size_t>(batch.next_states[i])];
+    transitions[i] = {from, to};
+  }
+  for (std::int32_t u : ctx.state_units.units) occupied[static_cast<std::size_t>(u)] = 1;
+  ctx.occupied = occupied;
+  record.graph = kernels::transition_graph(prototypes, transitions);
+  record.node_states = prototypes;
+  record.arrays.push_back({"graph/occupied",
+                           {static_cast<std::int64_t>(occupied.size())},
+                           std::vector<double>(occupied.begin(), occupied.end())});
+  record.arrays.push_back(
+      {"state_units",
+       {static_cast<std::int64_t>(ctx.state_units.units.size())},
+       std::vector<double>(ctx.state_units.units.begin(), ctx.state_units.units.end())});
+
+  // Centres: the occupied units in a random order.
+  for (std::int32_t u = 0; u < som.num_units(); ++u) {
+    if (occupied[static_cast<std::size_t>(u)]) ctx.centers.push_back(u);
+  }
+  ctx.graph_nodes = static_cast<std::int32_t>(ctx.centers.size());
+  kernels::RandomStream center_stream = stream_for(job.seed, run, Purpose::centers);
+  kernels::shuffle(ctx.centers, center_stream);
+  std::int32_t max_kernels = 0;
+  for (const SweepPoint& p : points) max_kernels = std::max(max_kernels, p.kernels);
+  ctx.center_distances = kernels::geodesic_distances(
+      record.graph, std::span<const std::int32_t>(ctx.centers)
+                        .first(static_cast<std::size_t>(std::min(max_kernels, ctx.graph_nodes))));
+  if (job.basis.scheme == kernels::BasisScheme::shift) {
+    ctx.model = std::make_unique<kernels::EmpiricalTransitionModel>(
+        static_cast<std::int32_t>(walks.readings.rows()), robot.num_actions(), batch.states,
+        batch.actions, batch.next_states);
+  }
+
+  record.fits.resize(points.size());
+  tbb::parallel_for(std::size_t{0}, points.size(),
+                    [&](std::size_t i) { record.fits[i] = fit_point(ctx, points[i]); });
+  return record;
+}
+
+TaskDefinition khepera_task_definition() {
+  return {{"khepera",
+           [](const TomlTableReader& job, const std::filesystem::path& job_dir,
+              std::vector<JobInput>& inputs) -> std::any {
+             return parse_khepera_table(job, job_dir, inputs);
+           }},
+          [](const JobSpec& job, std::int32_t run, std::span<const SweepPoint> points) {
+            return run_khepera(task_config_as<KheperaTaskConfig>(job), job, run, points);
+          }};
+}
+
+}  // namespace ggk::engine

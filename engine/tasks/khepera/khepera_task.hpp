@@ -1,0 +1,39 @@
+#pragma once
+// The Khepera navigation task (paper sec. 4.2): per run, random-walk samples of
+// 8-D IR readings -> self-organising map (the graph's nodes) -> graph over units
+// from the samples' transitions (weight = prototype distance) -> p random centres
+// among the occupied units -> continuous GGK (ED to the best-matching unit plus the
+// shortest path from it) or OGK (ED to the centre's prototype) -> copy basis ->
+// LSPI -> greedy episodes from the fixed start pose (sum of rewards, stopped by a
+// collision).
+//
+// The samples, SOM, graph and distances of a run are shared by all its fits;
+// fits run as oneTBB tasks; streams are keyed by (seed, run, purpose, sweep
+// point), so results are identical for any thread count.
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "engine/job/job_spec.hpp"
+#include "engine/job/run_record.hpp"
+#include "engine/tasks/khepera/khepera_task_config.hpp"
+#include "engine/tasks/task_definition.hpp"
+
+namespace ggk::engine {
+
+// Per-fit metrics, in summary-column order.
+inline const std::vector<std::string>& khepera_metric_names() {
+  static const std::vector<std::string> names = {"mean_return", "collision_fraction", "mean_steps",
+                                                 "lspi_iterations", "graph_nodes"};
+  return names;
+}
+
+RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::int32_t run,
+                      std::span<const SweepPoint> points);
+
+// The Khepera task for the task list: table [khepera], runs through run_khepera().
+TaskDefinition khepera_task_definition();
+
+}  // namespace ggk::engine

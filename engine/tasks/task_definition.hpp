@@ -1,0 +1,30 @@
+#pragma once
+// What a task gives the engine: its table in job files (name and parser) and the
+// computation of one run. A task lives in its own folder under engine/tasks/ and
+// is registered with one line in task_list.cpp; the job reader, the runner and
+// the store know tasks only through this type.
+
+#include <cstdint>
+#include <span>
+
+#include "engine/job/job_spec.hpp"
+#include "engine/job/run_record.hpp"
+#include "engine/job/sweep.hpp"
+#include "engine/job/task_table.hpp"
+
+namespace ggk::engine {
+
+// Computes one run of `job` (whose task_config the task's own parser produced)
+// for every sweep point, in sweep order. No I/O; may run as a oneTBB task beside
+// other runs, so it must depend only on its arguments (random numbers from
+// seeds.hpp's streams). Throws only on programmer errors: a fit that cannot
+// start or fails is recorded with its status.
+using RunComputation = RunRecord (*)(const JobSpec& job, std::int32_t run,
+                                     std::span<const SweepPoint> points);
+
+struct TaskDefinition {
+  TaskTable table;  // table.name is the task's name
+  RunComputation compute_run = nullptr;
+};
+
+}  // namespace ggk::engine
