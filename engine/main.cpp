@@ -1,12 +1,16 @@
 // ggk: the command line. Turns user errors (bad job files, outputs, options) into
 // one clear message on stderr and exit status 2; results go only to HDF5 files.
+// Under an MPI launcher (mpirun, srun) `ggk run` spreads the runs over the ranks
+// (engine/run/mpi_runner.hpp); everything else runs on rank 0 alone.
 
 #include <omp.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -14,32 +18,51 @@
 #include "engine/job/job_file.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/run/job_runner.hpp"
+#include "engine/store/results_diff.hpp"
 #include "engine/store/results_info.hpp"
+#include "engine/store/results_merge.hpp"
 #include "engine/tasks/task_list.hpp"
+#if GGK_WITH_MPI
+#include "engine/run/mpi_runner.hpp"
+#endif
 
 namespace {
 
+namespace engine = ggk::engine;
 constexpr int kUserError = 2;
 
-int run_command(const std::string& job_path, const ggk::engine::RunOptions& options) {
-  ggk::engine::JobLoadOptions load;
+int run_command(const std::string& job_path, const engine::RunOptions& options) {
+  engine::JobLoadOptions load;
   load.check_output = options.output.empty();  // -o replaces the job's output
-  const ggk::engine::JobSpec job =
-      ggk::engine::load_job_file(job_path, ggk::engine::task_tables(), load);
-  const ggk::engine::RunSummary s = ggk::engine::run_job(job, options);
-  std::fprintf(stderr,
-               "ggk: %s: %d runs computed, %d already complete, %lld fits (%lld failed) in "
-               "%.1f s\nggk: results in %s\n",
-               job.name.c_str(), s.runs_computed, s.runs_skipped, static_cast<long long>(s.fits),
-               static_cast<long long>(s.failed_fits), s.seconds, s.output.string().c_str());
+  const engine::JobSpec job = engine::load_job_file(job_path, engine::task_tables(), load);
+  const engine::RunSummary summary = engine::run_job(job, options);
+  engine::print_run_summary(job, summary);
   return 0;
 }
 
 int validate_command(const std::string& job_path) {
-  const ggk::engine::JobSpec job = ggk::engine::load_job_file(job_path, ggk::engine::task_tables());
+  const engine::JobSpec job = engine::load_job_file(job_path, engine::task_tables());
   std::printf("%s: ok (task %s, %d runs x %zu sweep points)\n", job_path.c_str(), job.task.c_str(),
-              job.runs, ggk::engine::expand_sweep(job).size());
+              job.runs, engine::expand_sweep(job).size());
   return 0;
+}
+
+// "A:B" -> runs A..B-1; the range is checked against the job when it runs.
+engine::RunRange parse_run_range(const std::string& text) {
+  const std::size_t colon = text.find(':');
+  try {
+    if (colon == std::string::npos) throw std::invalid_argument("no colon");
+    std::size_t used_first = 0, used_last = 0;
+    const int first = std::stoi(text.substr(0, colon), &used_first);
+    const int last = std::stoi(text.substr(colon + 1), &used_last);
+    if (used_first != colon || used_last != text.size() - colon - 1) {
+      throw std::invalid_argument("trailing characters");
+    }
+    return {first, last};
+  } catch (const std::exception&) {
+    throw engine::UsageError("--runs " + text +
+                             ": expected A:B, the runs A..B-1 (e.g. --runs 0:10)");
+  }
 }
 
 }  // namespace
@@ -48,12 +71,21 @@ int main(int argc, char** argv) {
   // Parallelism belongs to oneTBB: no OpenMP teams inside SuiteSparse calls.
   omp_set_num_threads(1);
 
+#if GGK_WITH_MPI
+  std::optional<engine::MpiSession> mpi;
+  if (engine::launched_by_mpi()) mpi.emplace(argc, argv);
+  const bool quiet_rank = mpi && mpi->rank() != 0;
+#else
+  const bool quiet_rank = false;
+#endif
+
   CLI::App app{"ggk: least-squares policy iteration with geodesic Gaussian kernels"};
   app.require_subcommand(1);
 
-  std::string job_path, info_path;
-  ggk::engine::RunOptions options;
+  std::string job_path, info_path, runs_text;
+  engine::RunOptions options;
   std::string output;
+  double rank_timeout = 60.0;
   CLI::App* run = app.add_subcommand("run", "Run a sweep job file, writing one HDF5 file");
   run->add_option("job", job_path, "job file (TOML)")->required();
   run->add_option("-j,--threads", options.threads, "worker threads (default: all cores)")
@@ -62,6 +94,11 @@ int main(int argc, char** argv) {
   run->add_flag("--resume", options.resume, "continue an interrupted run of the same job");
   run->add_flag("--overwrite", options.overwrite, "replace an existing results file");
   run->add_flag("-q,--quiet", options.quiet, "no progress output");
+  run->add_option("--runs", runs_text,
+                  "A:B computes only runs A..B-1 (a shard for a job array; join with ggk merge)");
+  run->add_option("--rank-timeout", rank_timeout,
+                  "under MPI: seconds a rank may stay silent before the job stops (default 60)")
+      ->check(CLI::PositiveNumber);
 
   CLI::App* validate = app.add_subcommand("validate", "Check a job file and exit");
   validate->add_option("job", job_path, "job file (TOML)")->required();
@@ -69,30 +106,62 @@ int main(int argc, char** argv) {
   CLI::App* info = app.add_subcommand("info", "Describe a results file");
   info->add_option("file", info_path, "results file (HDF5)")->required();
 
+  std::vector<std::string> diff_files;
+  CLI::App* diff = app.add_subcommand(
+      "diff", "Exit 0 when two results files hold the same results, 1 (naming them) when not");
+  diff->add_option("files", diff_files, "two results files")->required()->expected(2);
+
+  std::string merge_output;
+  std::vector<std::string> merge_inputs;
+  engine::MergeOptions merge_options;
+  CLI::App* merge = app.add_subcommand(
+      "merge", "Join shards of one job (ggk run --runs A:B) into the file the whole job writes");
+  merge->add_option("output", merge_output, "the merged results file (must not exist)")->required();
+  merge->add_option("shards", merge_inputs, "shard results files")->required()->expected(1, -1);
+  merge->add_flag("--allow-partial", merge_options.allow_partial,
+                  "merge even when runs are missing (ggk run --resume computes them)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int status = app.exit(e);
+    const int status = quiet_rank ? (e.get_exit_code() == 0 ? 0 : kUserError) : app.exit(e);
     return status == 0 ? 0 : kUserError;
   }
 
   try {
     if (*run) {
       if (options.resume && options.overwrite) {
-        throw ggk::engine::UsageError("--resume and --overwrite exclude each other");
+        throw engine::UsageError("--resume and --overwrite exclude each other");
       }
       options.output = output;
+      if (!runs_text.empty()) options.runs = parse_run_range(runs_text);
+#if GGK_WITH_MPI
+      if (mpi && mpi->size() > 1) {
+        engine::MpiRunOptions mpi_options;
+        mpi_options.run = options;
+        mpi_options.load.check_output = options.output.empty();
+        mpi_options.rank_timeout_seconds = rank_timeout;
+        return engine::run_job_over_mpi(*mpi, job_path, mpi_options);
+      }
+#endif
       return run_command(job_path, options);
     }
+    if (quiet_rank) return 0;  // the other commands run on rank 0 alone
     if (*validate) return validate_command(job_path);
     if (*info) {
-      ggk::engine::print_results_info(info_path, std::cout);
+      engine::print_results_info(info_path, std::cout);
       return 0;
     }
-  } catch (const ggk::engine::JobError& e) {
+    if (*diff) return engine::diff_results(diff_files[0], diff_files[1], std::cout) ? 0 : 1;
+    if (*merge) {
+      std::vector<std::filesystem::path> shards(merge_inputs.begin(), merge_inputs.end());
+      engine::merge_results(merge_output, shards, merge_options, std::cerr);
+      return 0;
+    }
+  } catch (const engine::JobError& e) {
     std::fprintf(stderr, "ggk: error: %s\n", e.what());
     return kUserError;
-  } catch (const ggk::engine::UsageError& e) {
+  } catch (const engine::UsageError& e) {
     std::fprintf(stderr, "ggk: error: %s\n", e.what());
     return kUserError;
   } catch (const std::exception& e) {

@@ -2,10 +2,14 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <ctime>
 #include <memory>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <tbb/global_control.h>
@@ -68,9 +72,20 @@ Hdf5File open_as_user(Open&& open) {
   }
 }
 
+// Records which runs a shard file is for (root attribute runs_selected = [A, B]);
+// a whole job's file has none. Rewritten on every open: a resumed file is for the
+// selection it was last run with.
+void mark_selection(Hdf5File& file, const JobSpec& job, const std::optional<RunRange>& runs) {
+  if (file.has_attribute("/", "runs_selected")) file.remove_attribute("/", "runs_selected");
+  if (runs && !(runs->first == 0 && runs->last == job.runs)) {
+    const std::int64_t range[2] = {runs->first, runs->last};
+    file.write_int64_array_attribute("/", "runs_selected", range);
+  }
+}
+
 // Opens (resume) or creates the results file; returns the runs already complete.
-Hdf5File open_results(const JobSpec& job, const RunOptions& options,
-                      const std::filesystem::path& output, std::vector<std::int32_t>& complete) {
+Hdf5File open_or_create(const JobSpec& job, const RunOptions& options,
+                        const std::filesystem::path& output, std::vector<std::int32_t>& complete) {
   const bool exists = std::filesystem::exists(output);
   if (exists && options.resume) {
     Hdf5File file = open_as_user([&] { return Hdf5File::open_read_write(output); });
@@ -91,6 +106,8 @@ Hdf5File open_results(const JobSpec& job, const RunOptions& options,
       }
     }
     complete = prepare_for_resume(file, job);
+    mark_selection(file, job, options.runs);
+    file.flush();
     return file;
   }
   if (exists && !options.overwrite) {
@@ -111,6 +128,7 @@ Hdf5File open_results(const JobSpec& job, const RunOptions& options,
   file.write_string_attribute("/", "task", job.task);
   file.write_int64_attribute("/", "runs", job.runs);
   file.create_group("/" + job.task);
+  mark_selection(file, job, options.runs);
   file.flush();
   return file;
 }
@@ -124,18 +142,44 @@ RunRecord compute_run(const JobSpec& job, std::int32_t run) {
   return task->compute_run(job, run, points);
 }
 
-RunSummary run_job(const JobSpec& job, const RunOptions& options) {
-  const auto started = std::chrono::steady_clock::now();
-  RunSummary summary;
-  summary.output = options.output.empty() ? job.output.file : options.output;
-  check_output_directory(summary.output);
-
-  std::unique_ptr<tbb::global_control> thread_limit;
-  if (options.threads > 0) {
-    thread_limit = std::make_unique<tbb::global_control>(
-        tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
+std::int64_t failed_fits_of(const RunRecord& record) {
+  std::int64_t failed = 0;
+  for (const FitRecord& fit : record.fits) {
+    if (fit.status == "invalid" || fit.status == "solver_failed") ++failed;
   }
+  return failed;
+}
 
+OpenedResults open_results(const JobSpec& job, const RunOptions& options) {
+  const std::filesystem::path output = options.output.empty() ? job.output.file : options.output;
+  if (options.runs && (options.runs->first < 0 || options.runs->first >= options.runs->last ||
+                       options.runs->last > job.runs)) {
+    throw UsageError("--runs " + std::to_string(options.runs->first) + ":" +
+                     std::to_string(options.runs->last) + " is not a range of runs of job '" +
+                     job.name + "', which has runs 0.." + std::to_string(job.runs - 1) +
+                     " (A:B computes runs A..B-1, 0 <= A < B <= " + std::to_string(job.runs) + ")");
+  }
+  check_output_directory(output);
+  std::vector<std::int32_t> complete;
+  OpenedResults opened{open_or_create(job, options, output, complete), output, {}, 0};
+  opened.file.set_gzip_level(job.output.compression);
+  const std::int32_t first = options.runs ? options.runs->first : 0;
+  const std::int32_t last = options.runs ? options.runs->last : job.runs;
+  for (std::int32_t run = first; run < last; ++run) {
+    if (std::binary_search(complete.begin(), complete.end(), run)) {
+      ++opened.skipped;
+    } else {
+      opened.pending.push_back(run);
+    }
+  }
+  return opened;
+}
+
+ComputeThreads::ComputeThreads(std::int32_t threads) {
+  if (threads > 0) {
+    limit_ = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                   static_cast<std::size_t>(threads));
+  }
   kernels::use_calling_thread_blas();  // before any task reaches the BLAS
   const kernels::BlasInfo blas = kernels::blas_info();
   if (!blas.concurrent_safe &&
@@ -144,23 +188,27 @@ RunSummary run_job(const JobSpec& job, const RunOptions& options) {
                      ", which is not safe to call from several threads at once; install "
                      "libopenblas0-pthread (scripts/install-deps.sh) or run with -j 1");
   }
+}
 
-  std::vector<std::int32_t> complete;
-  Hdf5File file = open_results(job, options, summary.output, complete);
-  file.set_gzip_level(job.output.compression);
-  std::vector<std::int32_t> pending;
-  for (std::int32_t run = 0, c = 0; run < job.runs; ++run) {
-    if (c < static_cast<std::int32_t>(complete.size()) &&
-        complete[static_cast<std::size_t>(c)] == run) {
-      ++c;
-    } else {
-      pending.push_back(run);
-    }
-  }
-  summary.runs_skipped = static_cast<std::int32_t>(complete.size());
+void print_run_summary(const JobSpec& job, const RunSummary& s) {
+  std::fprintf(stderr,
+               "ggk: %s: %d runs computed, %d already complete, %lld fits (%lld failed) in "
+               "%.1f s\nggk: results in %s\n",
+               job.name.c_str(), s.runs_computed, s.runs_skipped, static_cast<long long>(s.fits),
+               static_cast<long long>(s.failed_fits), s.seconds, s.output.string().c_str());
+}
+
+RunSummary run_job(const JobSpec& job, const RunOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  const ComputeThreads threads(options.threads);
+  OpenedResults opened = open_results(job, options);
+  RunSummary summary;
+  summary.output = opened.output;
+  summary.runs_skipped = opened.skipped;
+  const std::vector<std::int32_t>& pending = opened.pending;
   const auto fits_per_run = static_cast<std::int32_t>(expand_sweep(job).size());
 
-  StoreWriter writer(std::move(file));
+  StoreWriter writer(std::move(opened.file));
   std::atomic<std::int64_t> failed_fits{0};
   {
     Progress progress(static_cast<std::int32_t>(pending.size()), fits_per_run, options.quiet);
@@ -168,9 +216,7 @@ RunSummary run_job(const JobSpec& job, const RunOptions& options) {
         std::size_t{0}, pending.size(),
         [&](std::size_t i) {
           auto record = std::make_shared<const RunRecord>(compute_run(job, pending[i]));
-          for (const FitRecord& fit : record->fits) {
-            if (fit.status == "invalid" || fit.status == "solver_failed") failed_fits.fetch_add(1);
-          }
+          failed_fits.fetch_add(failed_fits_of(*record));
           writer.submit([record, &job, &progress](Hdf5File& f) {
             write_run(f, job, *record);
             progress.run_done();

@@ -5,13 +5,26 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
+#include <optional>
 #include <string>
+#include <vector>
+
+#include <tbb/global_control.h>
 
 #include "engine/job/job_spec.hpp"
 #include "engine/job/run_record.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/store/hdf5_file.hpp"
 
 namespace ggk::engine {
+
+// Runs first..last-1 of a job (`--runs A:B`): a shard for a job array; the runs
+// keep the seeds and results they have in the whole job (ggk merge joins shards).
+struct RunRange {
+  std::int32_t first = 0;
+  std::int32_t last = 0;  // exclusive
+};
 
 struct RunOptions {
   std::filesystem::path output;  // empty: the job's [output] file
@@ -19,6 +32,7 @@ struct RunOptions {
   bool resume = false;           // continue an existing results file of this job
   bool overwrite = false;        // replace an existing results file
   bool quiet = false;            // no progress output
+  std::optional<RunRange> runs;  // only these runs (a shard); checked against job.runs
 };
 
 struct RunSummary {
@@ -32,7 +46,36 @@ struct RunSummary {
 
 RunSummary run_job(const JobSpec& job, const RunOptions& options);
 
+// The CLI's closing lines on stderr: runs computed and skipped, fits, failures,
+// time, and where the results are.
+void print_run_summary(const JobSpec& job, const RunSummary& summary);
+
 // Runs one run of the job's task for every sweep point (no I/O).
 RunRecord compute_run(const JobSpec& job, std::int32_t run);
+
+// The fits of `record` that failed (status invalid or solver_failed).
+std::int64_t failed_fits_of(const RunRecord& record);
+
+// The results file of a job, opened (--resume) or created as run_job does it, with
+// every rule of the CLI (exists without --resume/--overwrite, another job's file,
+// changed input files: UsageError), and the runs still to compute, ascending.
+struct OpenedResults {
+  Hdf5File file;
+  std::filesystem::path output;
+  std::vector<std::int32_t> pending;
+  std::int32_t skipped = 0;  // runs of the selection already complete
+};
+OpenedResults open_results(const JobSpec& job, const RunOptions& options);
+
+// Sets oneTBB's thread limit for the caller's lifetime (threads = 0: all cores) and
+// makes the BLAS single-threaded per call; throws UsageError when the BLAS is not
+// safe to call concurrently and more than one thread may run.
+class ComputeThreads {
+ public:
+  explicit ComputeThreads(std::int32_t threads);
+
+ private:
+  std::unique_ptr<tbb::global_control> limit_;
+};
 
 }  // namespace ggk::engine

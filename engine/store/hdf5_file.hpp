@@ -114,6 +114,14 @@ class Hdf5File {
   static Hdf5File open_read_only(const std::filesystem::path& path);
   static Hdf5File open_read_write(const std::filesystem::path& path);
 
+  // In-memory files (HDF5's core driver, nothing on disk), to move a group between
+  // processes: create one, write into it, take its bytes with file_image(); the
+  // receiver opens the bytes read-only with open_image() and copy_from()s what it
+  // needs. `name` names the file in messages.
+  static Hdf5File create_in_memory(const std::string& name);
+  std::vector<unsigned char> file_image();  // flushes first
+  static Hdf5File open_image(std::span<const unsigned char> image, const std::string& name);
+
   Hdf5File(Hdf5File&& other) noexcept;
   Hdf5File& operator=(Hdf5File&& other) noexcept;
   Hdf5File(const Hdf5File&) = delete;
@@ -146,6 +154,33 @@ class Hdf5File {
   // Renames (moves) the object at `from` to the new path `to`, creating
   // missing parents of `to`; only the link changes, the object is not read.
   void move(std::string_view from, std::string_view to);
+  // Copies the object at source_path of `source` (another open file, or this one)
+  // to destination_path here, with everything below it, creating missing parents;
+  // dataset storage (chunks, filters) and attributes are copied as they are.
+  void copy_from(const Hdf5File& source, std::string_view source_path,
+                 std::string_view destination_path);
+
+  // Introspection, for tools that walk a whole file (ggk diff, merge).
+  enum class ObjectKind { kGroup, kDataset, kOther };
+  ObjectKind object_kind(std::string_view path) const;
+  // Names of a group's members / an object's attributes, sorted by name.
+  std::vector<std::string> member_names(std::string_view group_path) const;
+  std::vector<std::string> attribute_names(std::string_view object_path) const;
+  // The values of a dataset or attribute in a canonical form to compare files by:
+  // `type` describes the stored type and shape; strings (fixed or variable length,
+  // alone or as compound members) are decoded; numbers are their native bytes.
+  // Members of a compound type named in `skip_members` are left out.
+  struct Values {
+    std::string type;
+    std::vector<std::int64_t> shape;
+    std::vector<unsigned char> bytes;  // numbers, row-major, native layout
+    std::vector<std::string> strings;  // decoded strings, in element order
+    bool operator==(const Values&) const = default;
+  };
+  Values read_values(std::string_view dataset_path,
+                     std::span<const std::string> skip_members = {}) const;
+  Values read_attribute_values(std::string_view object_path, std::string_view name) const;
+
   // Shape of the dataset at path (empty for a scalar dataset).
   std::vector<std::int64_t> dataset_shape(std::string_view path) const;
 

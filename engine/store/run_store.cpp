@@ -2,6 +2,8 @@
 
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 namespace ggk::engine {
 
@@ -170,6 +172,30 @@ void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
   file.flush();
 }
 
+std::vector<unsigned char> run_image(const JobSpec& job, const RunRecord& record) {
+  Hdf5File image = Hdf5File::create_in_memory("run_" + std::to_string(record.run));
+  image.set_gzip_level(job.output.compression);
+  write_run(image, job, record);
+  return image.file_image();
+}
+
+void write_run_image(Hdf5File& file, const JobSpec& job, std::int32_t run,
+                     std::span<const unsigned char> image) {
+  const Hdf5File source = Hdf5File::open_image(image, "run_" + std::to_string(run));
+  if (!run_is_complete(source, job.task, run)) {
+    throw std::runtime_error("the image sent for run " + std::to_string(run) +
+                             " does not hold that run complete");
+  }
+  const std::string group = run_group(job.task, run);
+  const std::string staging = staging_group(job.task, run);
+  if (file.exists(group)) file.remove(group);
+  if (file.exists(staging)) file.detach(staging);
+  file.copy_from(source, group, staging);  // with its complete mark: staging is never kept
+  file.flush();
+  file.move(staging, group);
+  file.flush();
+}
+
 bool run_is_complete(const Hdf5File& file, const std::string& task, std::int32_t run) {
   const std::string group = run_group(task, run);
   return file.exists(group) && file.has_attribute(group, "complete") &&
@@ -191,14 +217,14 @@ std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job)
   return complete;
 }
 
-std::int64_t write_summary(Hdf5File& file, const JobSpec& job) {
-  const std::string path = "/" + job.task + "/summary";
+std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t runs) {
+  const std::string path = "/" + task + "/summary";
   if (file.exists(path)) file.remove(path);
   std::vector<TableRow> rows;
   std::vector<TableColumn> columns;
-  for (std::int32_t run = 0; run < job.runs; ++run) {
-    if (!run_is_complete(file, job.task, run)) continue;
-    const std::string table = run_group(job.task, run) + "/fit_metrics";
+  for (std::int32_t run = 0; run < runs; ++run) {
+    if (!run_is_complete(file, task, run)) continue;
+    const std::string table = run_group(task, run) + "/fit_metrics";
     if (columns.empty()) columns = file.read_table_columns(table);
     for (TableRow& row : file.read_table(table)) rows.push_back(std::move(row));
   }
@@ -207,6 +233,10 @@ std::int64_t write_summary(Hdf5File& file, const JobSpec& job) {
   file.append_rows(path, rows);
   file.flush();
   return static_cast<std::int64_t>(rows.size());
+}
+
+std::int64_t write_summary(Hdf5File& file, const JobSpec& job) {
+  return write_summary(file, job.task, job.runs);
 }
 
 }  // namespace ggk::engine

@@ -12,6 +12,7 @@
 // All functions make HDF5 calls: call them on the StoreWriter's thread only.
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,17 @@ std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_
 // removed first). A kill at any moment leaves every complete run readable.
 void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record);
 
+// The run as the bytes of an in-memory HDF5 file that holds its group, written
+// by write_run (for a run computed on another MPI rank).
+std::vector<unsigned char> run_image(const JobSpec& job, const RunRecord& record);
+
+// Commits a run from run_image()'s bytes as write_run commits a record: the group
+// is copied under its staging path, flushed, moved into place and flushed again,
+// so the file ends up holding what write_run would have written. Throws
+// std::runtime_error when the image does not hold that run complete.
+void write_run_image(Hdf5File& file, const JobSpec& job, std::int32_t run,
+                     std::span<const unsigned char> image);
+
 bool run_is_complete(const Hdf5File& file, const std::string& task, std::int32_t run);
 
 // Detaches the staging groups and removes incomplete runs; returns the ids of the
@@ -44,5 +56,7 @@ std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job)
 // (Re)writes /<task>/summary from the fit_metrics of every complete run.
 // Returns the number of rows.
 std::int64_t write_summary(Hdf5File& file, const JobSpec& job);
+// The same for a file whose job is known only by its task and run count.
+std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t runs);
 
 }  // namespace ggk::engine

@@ -3,10 +3,15 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <any>
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <span>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -522,6 +527,85 @@ TEST(ShippedJobFiles, AreValid) {
     EXPECT_EQ(job.task, "maze");
     EXPECT_NO_THROW(sims::maze::Maze(task_config_as<sims::maze::MazeConfig>(job).map_text));
   }
+}
+
+// The reader is handed the tasks' tables and names none itself: a task the engine
+// does not register works like the built-in ones, with no change to the reader
+// (the "adding a task" steps of engine/README.md).
+struct ToyConfig {
+  std::int64_t size = 1;
+};
+constexpr std::array<std::string_view, 1> kToyKeys = {"size"};
+std::any parse_toy_table(const TomlTableReader& job, const fs::path&, std::vector<JobInput>&) {
+  const TomlTableReader table = job.subtable_or_empty("toy", kToyKeys);
+  return ToyConfig{table.integer("size", {1, 100}, 1)};
+}
+constexpr std::array<TaskTable, 1> kToyTasks = {{{"toy", parse_toy_table}}};
+
+std::string toy_job(const std::string& task, const std::string& tables) {
+  return "name = \"toy\"\ntask = \"" + task + "\"\nruns = 1\nseed = 0\n[sweep]\nkernels = [2]\n" +
+         "sigma = [1]\n" + tables;
+}
+JobLoadOptions without_output_check() {
+  JobLoadOptions options;
+  options.check_output = false;
+  return options;
+}
+std::string toy_error(const std::string& text, std::span<const TaskTable> tasks) {
+  try {
+    parse_job(text, "toy.toml", tasks, without_output_check());
+  } catch (const JobError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "expected a JobError for:\n" << text;
+  return {};
+}
+
+TEST(TaskTables, AnUnregisteredTaskReadsItsOwnTable) {
+  const JobSpec job =
+      parse_job(toy_job("toy", "[toy]\nsize = 7\n"), "toy.toml", kToyTasks, without_output_check());
+  EXPECT_EQ(job.task, "toy");
+  EXPECT_EQ(task_config_as<ToyConfig>(job).size, 7);
+  EXPECT_THROW(task_config_as<sims::maze::MazeConfig>(job), std::logic_error);
+  // The reader's own checks apply to the toy table too.
+  const std::string range = toy_error(toy_job("toy", "[toy]\nsize = 700\n"), kToyTasks);
+  EXPECT_NE(range.find("toy.toml:9:1: [toy] size:"), std::string::npos) << range;
+  const std::string spelling = toy_error(toy_job("toy", "[toy]\nsise = 7\n"), kToyTasks);
+  EXPECT_NE(spelling.find("did you mean 'size'"), std::string::npos) << spelling;
+}
+
+TEST(TaskTables, OnlyTheGivenTasksAreKnown) {
+  // The maze is not among the tasks handed over: task = "maze" and [maze] are errors.
+  const std::string unknown = toy_error(toy_job("maze", ""), kToyTasks);
+  EXPECT_NE(unknown.find("task:"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("toy"), std::string::npos) << unknown;
+  const std::string table = toy_error(toy_job("toy", "[maze]\nslip = 0\n"), kToyTasks);
+  EXPECT_NE(table.find("maze: unknown key"), std::string::npos) << table;
+  // With the registered tasks and the toy, a [maze] table in a toy job is refused.
+  std::vector<TaskTable> both(task_tables().begin(), task_tables().end());
+  both.push_back(kToyTasks[0]);
+  const std::string foreign = toy_error(toy_job("toy", "[maze]\nslip = 0\n"), both);
+  EXPECT_NE(foreign.find("belongs to task 'maze'"), std::string::npos) << foreign;
+  const std::string misspelt = toy_error(toy_job("toy", "[toi]\nsize = 2\n"), both);
+  EXPECT_NE(misspelt.find("did you mean 'toy'"), std::string::npos) << misspelt;
+}
+
+TEST(TaskTables, ATaskNamedLikeACommonKeyIsAProgrammerError) {
+  const std::array<TaskTable, 1> clash = {{{"sweep", parse_toy_table}}};
+  EXPECT_THROW(parse_job(toy_job("sweep", ""), "toy.toml", clash, without_output_check()),
+               std::logic_error);
+}
+
+TEST(TaskTables, TheRegisteredTasksAreMazeArmKhepera) {
+  std::vector<std::string_view> names;
+  for (const TaskTable& table : task_tables()) names.push_back(table.name);
+  EXPECT_EQ(names, (std::vector<std::string_view>{"maze", "arm", "khepera"}));
+  for (const std::string_view name : names) {
+    const TaskDefinition* task = find_task(name);
+    ASSERT_NE(task, nullptr) << name;
+    EXPECT_NE(task->compute_run, nullptr) << name;
+  }
+  EXPECT_EQ(find_task("toy"), nullptr);
 }
 
 }  // namespace

@@ -1,0 +1,216 @@
+// Hdf5File: walking a file (kinds, member and attribute names) and reading any
+// dataset or attribute into a canonical form (Hdf5File::Values), for tools that
+// compare or join whole files (ggk diff, ggk merge).
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <cstring>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/store/hdf5_file.hpp"
+#include "engine/store/hdf5_internals.hpp"
+
+namespace ggk::engine {
+
+using namespace hdf5_internals;  // NOLINT: the shared helpers of Hdf5File's parts
+
+namespace {
+
+// Reads a dataset's or an attribute's elements in a memory type.
+using ReadAs = std::function<void(hid_t memory_type, void* buffer)>;
+
+// Appends the elements of one (non-compound) type: numbers as native bytes,
+// strings decoded. `file_type` is the stored type; `count` the element count.
+void append_values(const Context& where, const std::string& path, hid_t file_type,
+                   std::size_t count, const ReadAs& read, Hdf5File::Values& values) {
+  const H5T_class_t type_class = H5Tget_class(file_type);
+  if (type_class == H5T_STRING) {
+    if (H5Tis_variable_str(file_type) > 0) {
+      const Handle memory = variable_string_type(where, path);
+      std::vector<char*> pointers(count, nullptr);
+      read(memory.get(), pointers.data());
+      for (char* text : pointers) {
+        values.strings.emplace_back(text == nullptr ? "" : text);
+        H5free_memory(text);
+      }
+    } else {
+      const std::size_t size = H5Tget_size(file_type);
+      const Handle memory = fixed_string_type(where, size, path);
+      std::vector<char> bytes(count * size);
+      read(memory.get(), bytes.data());
+      const H5T_str_t padding = H5Tget_strpad(file_type);
+      for (std::size_t i = 0; i < count; ++i) {
+        values.strings.push_back(decode_fixed_string(bytes.data() + i * size, size, padding));
+      }
+    }
+    values.type += "string";
+    return;
+  }
+  const Handle memory = checked(H5Tget_native_type(file_type, H5T_DIR_ASCEND), H5Tclose, where,
+                                "get the native type of", path);
+  const std::size_t size = H5Tget_size(memory.get());
+  const std::size_t offset = values.bytes.size();
+  values.bytes.resize(offset + count * size);
+  read(memory.get(), values.bytes.data() + offset);
+  values.type += describe_type(file_type);
+}
+
+// The whole canonical form of one dataset or attribute of type `file_type` with
+// `count` elements; a compound is read member by member (minus `skip`).
+void read_canonical(const Context& where, const std::string& path, hid_t file_type,
+                    std::size_t count, const std::function<void(hid_t, void*)>& read,
+                    std::span<const std::string> skip, Hdf5File::Values& values) {
+  if (H5Tget_class(file_type) != H5T_COMPOUND) {
+    append_values(where, path, file_type, count, read, values);
+    return;
+  }
+  values.type += "{";
+  const int members = H5Tget_nmembers(file_type);
+  for (int m = 0; m < members; ++m) {
+    char* raw_name = H5Tget_member_name(file_type, static_cast<unsigned>(m));
+    const std::string name = raw_name == nullptr ? "" : raw_name;
+    H5free_memory(raw_name);
+    if (std::find(skip.begin(), skip.end(), name) != skip.end()) continue;
+    const Handle member = checked(H5Tget_member_type(file_type, static_cast<unsigned>(m)), H5Tclose,
+                                  where, "get a member type of", path);
+    values.type += name + ":";
+    // Read this member alone, through a one-member compound of its memory type.
+    const ReadAs read_member = [&](hid_t memory_type, void* buffer) {
+      const Handle single = checked(H5Tcreate(H5T_COMPOUND, H5Tget_size(memory_type)), H5Tclose,
+                                    where, "create a member type for", path);
+      check(H5Tinsert(single.get(), name.c_str(), 0, memory_type), where,
+            "set up member " + in_quotes(name) + " of", path);
+      read(single.get(), buffer);
+    };
+    append_values(where, path, member.get(), count, read_member, values);
+    values.type += ";";
+  }
+  values.type += "}";
+}
+
+std::vector<std::int64_t> shape_of(const Context& where, hid_t space, const std::string& path,
+                                   std::size_t& count) {
+  const Handle copy = checked(H5Scopy(space), H5Sclose, where, "copy the dataspace of", path);
+  const std::vector<hsize_t> dims = space_dims(where, copy, path);
+  count = element_count(dims);
+  return std::vector<std::int64_t>(dims.begin(), dims.end());
+}
+
+herr_t collect_link_name(hid_t, const char* name, const H5L_info_t*, void* data) {
+  static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+  return 0;
+}
+
+herr_t collect_attribute_name(hid_t, const char* name, const H5A_info_t*, void* data) {
+  static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+  return 0;
+}
+
+}  // namespace
+
+Hdf5File::ObjectKind Hdf5File::object_kind(std::string_view path) const {
+  const std::string name = normalized(path, path_);
+  const Context where{id_, path_};
+  require_existing(where, name);
+  const Handle object =
+      checked(H5Oopen(id_, name.c_str(), H5P_DEFAULT), H5Oclose, where, "open", name);
+  switch (H5Iget_type(object.get())) {
+    case H5I_GROUP:
+      return ObjectKind::kGroup;
+    case H5I_DATASET:
+      return ObjectKind::kDataset;
+    default:
+      return ObjectKind::kOther;
+  }
+}
+
+std::vector<std::string> Hdf5File::member_names(std::string_view group_path) const {
+  const std::string name = normalized(group_path, path_);
+  const Context where{id_, path_};
+  require_existing(where, name);
+  const Handle group =
+      checked(H5Gopen2(id_, name.c_str(), H5P_DEFAULT), H5Gclose, where, "open group", name);
+  std::vector<std::string> names;
+  hsize_t index = 0;
+  check(H5Literate(group.get(), H5_INDEX_NAME, H5_ITER_INC, &index, collect_link_name, &names),
+        where, "list the members of", name);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::vector<std::string> Hdf5File::attribute_names(std::string_view object_path) const {
+  const std::string name = normalized(object_path, path_);
+  const Context where{id_, path_};
+  require_existing(where, name);
+  const Handle object =
+      checked(H5Oopen(id_, name.c_str(), H5P_DEFAULT), H5Oclose, where, "open", name);
+  std::vector<std::string> names;
+  hsize_t index = 0;
+  check(
+      H5Aiterate2(object.get(), H5_INDEX_NAME, H5_ITER_INC, &index, collect_attribute_name, &names),
+      where, "list the attributes of", name);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+Hdf5File::Values Hdf5File::read_values(std::string_view dataset_path,
+                                       std::span<const std::string> skip_members) const {
+  const std::string name = normalized(dataset_path, path_);
+  const Context where{id_, path_};
+  require_existing(where, name);
+  const Handle dataset = open_dataset(where, name);
+  const Handle type = dataset_type(where, dataset, name);
+  const Handle space = dataset_space(where, dataset, name);
+  Values values;
+  std::size_t count = 0;
+  values.shape = shape_of(where, space.get(), name, count);
+  if (count == 0) {
+    values.type = describe_type(type.get());
+    return values;
+  }
+  read_canonical(
+      where, name, type.get(), count,
+      [&](hid_t memory_type, void* buffer) {
+        check(H5Dread(dataset.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer), where,
+              "read dataset", name);
+      },
+      skip_members, values);
+  return values;
+}
+
+Hdf5File::Values Hdf5File::read_attribute_values(std::string_view object_path,
+                                                 std::string_view attribute_name) const {
+  const std::string object = normalized(object_path, path_);
+  const std::string attribute_name_text(attribute_name);
+  const Context where{id_, path_};
+  require_existing(where, object);
+  const Handle attribute = checked(
+      H5Aopen_by_name(id_, object.c_str(), attribute_name_text.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+      H5Aclose, where, "open attribute " + in_quotes(attribute_name_text) + " of", object);
+  const Handle type =
+      checked(H5Aget_type(attribute.get()), H5Tclose, where,
+              "get the type of attribute " + in_quotes(attribute_name_text) + " of", object);
+  const Handle space =
+      checked(H5Aget_space(attribute.get()), H5Sclose, where,
+              "get the dataspace of attribute " + in_quotes(attribute_name_text) + " of", object);
+  Values values;
+  std::size_t count = 0;
+  values.shape = shape_of(where, space.get(), object, count);
+  if (count == 0) {
+    values.type = describe_type(type.get());
+    return values;
+  }
+  read_canonical(
+      where, object, type.get(), count,
+      [&](hid_t memory_type, void* buffer) {
+        check(H5Aread(attribute.get(), memory_type, buffer), where,
+              "read attribute " + in_quotes(attribute_name_text) + " of", object);
+      },
+      {}, values);
+  return values;
+}
+
+}  // namespace ggk::engine

@@ -1,0 +1,29 @@
+#pragma once
+// `ggk merge OUT part1.h5 part2.h5 ...`: joins shards of one job (each from
+// `ggk run JOB --runs A:B`) into the file the whole job would have written.
+//
+// The shards must hold the same job (job text and input files, compared); a run
+// complete in two shards is refused (overlap), and runs complete in none are
+// reported as gaps, refused unless allow_partial, in which case `ggk run JOB
+// --resume -o OUT` computes them later. Only complete runs are taken; their
+// groups are copied whole (HDF5 object copy), the summary is rebuilt in run
+// order. OUT is written under a temporary name beside it and renamed into place
+// when complete, so a failed merge leaves no OUT and an existing OUT is refused.
+
+#include <filesystem>
+#include <ostream>
+#include <span>
+
+namespace ggk::engine {
+
+struct MergeOptions {
+  bool allow_partial = false;
+};
+
+// Throws UsageError for what the user can fix (unreadable or foreign shards,
+// overlaps, gaps, an existing OUT). Reports what it merged to `log`.
+void merge_results(const std::filesystem::path& output,
+                   std::span<const std::filesystem::path> shards, const MergeOptions& options,
+                   std::ostream& log);
+
+}  // namespace ggk::engine
