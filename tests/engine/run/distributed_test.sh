@@ -1,0 +1,109 @@
+#!/usr/bin/env bash
+# The distributed engine end to end, through the real ggk binary: one case per
+# call (ctest registers each, see tests/CMakeLists.txt).
+#   ranks  mpiexec -n 1..4 writes the file a single process writes (ggk diff)
+#   shards --runs A:B shards merged equal the whole job; merge refuses foreign and
+#          overlapping shards, reports gaps, and --allow-partial + --resume completes
+#   kill   kill -9 a worker: the job stops naming the rank and its run; every run
+#          written stays complete; --resume (2 ranks, then none) finishes it identically
+# Environment: GGK (the binary), GGK_SOURCE_DIR, MPIEXEC (launcher with its flags,
+# e.g. "mpiexec --oversubscribe --allow-run-as-root"), MPIEXEC_NUMPROC_FLAG.
+set -euo pipefail
+case_name=$1
+scratch=$(mktemp -d "${TMPDIR:-/tmp}/ggk-distributed-XXXXXX")
+trap 'rm -rf "$scratch"' EXIT
+read -r -a launcher <<<"$MPIEXEC"
+np() { printf "%s %s" "${MPIEXEC_NUMPROC_FLAG:--n}" "$1"; }
+fail() { echo "FAIL: $*" >&2; exit 1; }
+jobs_dir=$GGK_SOURCE_DIR/jobs
+
+# A job's single-process reference file.
+reference() { "$GGK" run "$1" -j 2 -q -o "$2" 2>/dev/null; }
+
+case $case_name in
+ranks)
+  reference "$jobs_dir/ci.toml" "$scratch/single.h5"
+  for n in 1 2 3 4; do
+    # shellcheck disable=SC2046
+    "${launcher[@]}" $(np $n) "$GGK" run "$jobs_dir/ci.toml" -j 1 -q -o "$scratch/np$n.h5" \
+      2>"$scratch/np$n.log" || { cat "$scratch/np$n.log"; fail "mpiexec -n $n exited $?"; }
+    # Output from rank 0 only: one final line.
+    [ "$(grep -c 'runs computed' "$scratch/np$n.log")" = 1 ] || fail "-n $n: not one final line"
+    "$GGK" diff "$scratch/single.h5" "$scratch/np$n.h5" || fail "-n $n differs from one process"
+  done
+  # Threads inside ranks too.
+  "${launcher[@]}" $(np 2) "$GGK" run "$jobs_dir/ci-khepera.toml" -j 2 -q -o "$scratch/k2.h5"
+  reference "$jobs_dir/ci-khepera.toml" "$scratch/k1.h5"
+  "$GGK" diff "$scratch/k1.h5" "$scratch/k2.h5" || fail "khepera: 2 ranks x 2 threads differ"
+  ;;
+shards)
+  job=$jobs_dir/ci.toml  # 6 runs
+  reference "$job" "$scratch/whole.h5"
+  "$GGK" run "$job" -q --runs 0:2 -o "$scratch/a.h5"
+  "$GGK" run "$job" -q --runs 2:5 -o "$scratch/b.h5"
+  "${launcher[@]}" $(np 2) "$GGK" run "$job" -j 1 -q --runs 5:6 -o "$scratch/c.h5"
+  "$GGK" info "$scratch/a.h5" | grep -q "2 of 6 complete" || fail "shard a: info"
+  "$GGK" merge "$scratch/merged.h5" "$scratch/c.h5" "$scratch/a.h5" "$scratch/b.h5"
+  "$GGK" diff "$scratch/whole.h5" "$scratch/merged.h5" || fail "merged shards differ from the whole"
+  # Refusals: exit 2, no output.
+  status=0; "$GGK" run "$job" -q --runs 1:3 -o "$scratch/overlap.h5"
+  "$GGK" merge "$scratch/x.h5" "$scratch/a.h5" "$scratch/overlap.h5" 2>"$scratch/err" || status=$?
+  [ $status = 2 ] && grep -q "run 1 is complete in both" "$scratch/err" && [ ! -e "$scratch/x.h5" ] ||
+    fail "overlap not refused (status $status): $(cat "$scratch/err")"
+  status=0; "$GGK" run "$jobs_dir/quick.toml" -q -o "$scratch/other.h5"
+  "$GGK" merge "$scratch/x.h5" "$scratch/a.h5" "$scratch/other.h5" 2>"$scratch/err" || status=$?
+  [ $status = 2 ] && grep -q "another job" "$scratch/err" && [ ! -e "$scratch/x.h5" ] ||
+    fail "foreign shard not refused (status $status): $(cat "$scratch/err")"
+  status=0; "$GGK" merge "$scratch/x.h5" "$scratch/a.h5" "$scratch/c.h5" 2>"$scratch/err" || status=$?
+  [ $status = 2 ] && grep -q "complete in no shard: 2-4" "$scratch/err" && [ ! -e "$scratch/x.h5" ] ||
+    fail "gap not reported (status $status): $(cat "$scratch/err")"
+  status=0; "$GGK" run "$job" -q --runs 4:9 -o "$scratch/y.h5" 2>"$scratch/err" || status=$?
+  [ $status = 2 ] && grep -q "is not a range of runs" "$scratch/err" || fail "--runs 4:9 accepted"
+  # A partial merge, finished by --resume, equals the whole.
+  "$GGK" merge --allow-partial "$scratch/partial.h5" "$scratch/a.h5" "$scratch/c.h5" 2>/dev/null
+  "$GGK" run "$job" -q --resume -o "$scratch/partial.h5"
+  "$GGK" diff "$scratch/whole.h5" "$scratch/partial.h5" || fail "partial merge + resume differs"
+  # ggk diff itself: another seed differs, with exit 1.
+  sed 's/^seed = .*/seed = 99/' "$job" >"$jobs_dir/.distributed-seed-$$.toml"
+  trap 'rm -rf "$scratch" "$jobs_dir/.distributed-seed-$$.toml"' EXIT
+  "$GGK" run "$jobs_dir/.distributed-seed-$$.toml" -q -o "$scratch/seed.h5"
+  status=0; "$GGK" diff "$scratch/whole.h5" "$scratch/seed.h5" >"$scratch/diff" || status=$?
+  [ $status = 1 ] && grep -q "^differs: " "$scratch/diff" || fail "ggk diff missed another seed"
+  ;;
+kill)
+  # ci-khepera with 9 runs (~1 s each) in a copy of jobs/, so that the kill lands mid-job.
+  mkdir "$scratch/jobs" && cp -r "$jobs_dir/arenas" "$scratch/jobs/"
+  sed 's/^runs = .*/runs = 9/' "$jobs_dir/ci-khepera.toml" >"$scratch/jobs/k.toml"
+  job=$scratch/jobs/k.toml
+  reference "$job" "$scratch/single.h5"
+  status=0
+  "${launcher[@]}" $(np 3) "$GGK" run "$job" -j 1 -q -o "$scratch/killed.h5" \
+    >"$scratch/log" 2>&1 &
+  launcher_pid=$!
+  victim=""
+  for _ in $(seq 100); do  # find rank 1 and kill it once a run has been written
+    sleep 0.1
+    for pid in $(pgrep -x ggk || true); do
+      if tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1'; then
+        victim=$pid
+      fi
+    done
+    [ -n "$victim" ] && [ "$(stat -c %s "$scratch/killed.h5" 2>/dev/null || echo 0)" -gt 200000 ] &&
+      break
+  done
+  [ -n "$victim" ] || fail "no rank 1 found"
+  kill -9 "$victim"
+  wait "$launcher_pid" || status=$?
+  [ $status != 0 ] || fail "the job did not stop after its rank 1 was killed"
+  grep -Eq "run [0-9]+ on rank 1 \(silent" "$scratch/log" || { cat "$scratch/log"; fail "no message naming rank 1 and its run"; }
+  grep -q -- "--resume" "$scratch/log" || fail "no hint to resume"
+  "$GGK" info "$scratch/killed.h5" | grep "complete"
+  "${launcher[@]}" $(np 2) "$GGK" run "$job" -j 1 -q --resume --runs 0:5 -o "$scratch/killed.h5"
+  "$GGK" run "$job" -q --resume -o "$scratch/killed.h5"
+  "$GGK" diff "$scratch/single.h5" "$scratch/killed.h5" || fail "resumed file differs"
+  ;;
+*)
+  fail "unknown case $case_name"
+  ;;
+esac
+echo "distributed $case_name: ok"
