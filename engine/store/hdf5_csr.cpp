@@ -2,15 +2,7 @@
 
 #include <hdf5.h>
 
-#include <hdf5.h>
-
-#include <algorithm>
-#include <cstring>
 #include <limits>
-#include <stdexcept>
-#include <system_error>
-#include <type_traits>
-#include <utility>
 
 #include "engine/store/hdf5_internals.hpp"
 

@@ -2,21 +2,95 @@
 
 #include <hdf5.h>
 
-#include <hdf5.h>
-
 #include <algorithm>
-#include <cstring>
 #include <limits>
-#include <stdexcept>
-#include <system_error>
-#include <type_traits>
-#include <utility>
 
 #include "engine/store/hdf5_internals.hpp"
 
 namespace ggk::engine {
 
 using namespace hdf5_internals;  // NOLINT: the shared helpers of this file's parts
+
+namespace {
+
+// Chunks of about this many bytes: large enough for gzip to work well, small
+// enough that reading one value does not inflate megabytes.
+constexpr std::size_t kTargetChunkBytes = 256 * 1024;
+
+// Chunk shape of about kTargetChunkBytes for a non-empty dataset; every chunk
+// dimension is >= 1 and <= the dataset's (HDF5 requires both for fixed sizes).
+std::vector<hsize_t> chunk_shape(std::span<const hsize_t> dims, std::size_t element_size) {
+  std::vector<hsize_t> chunk(dims.size(), 1);
+  std::size_t budget = std::max<std::size_t>(1, kTargetChunkBytes / element_size);
+  for (std::size_t i = dims.size(); i-- > 0;) {  // innermost dimension first
+    chunk[i] = std::max<hsize_t>(1, std::min<hsize_t>(dims[i], budget));
+    budget = std::max<std::size_t>(1, budget / static_cast<std::size_t>(chunk[i]));
+  }
+  return chunk;
+}
+
+// Dataset creation properties: chunked, shuffle + gzip, unless the dataset is
+// empty (contiguous: there is nothing to compress and no chunk would fit).
+Handle compressed_dcpl(const Context& where, std::span<const hsize_t> dims,
+                       std::size_t element_size, int gzip_level, std::string_view object_path) {
+  Handle dcpl = make_property_list(H5P_DATASET_CREATE, where, object_path);
+  if (element_count(dims) == 0) return dcpl;
+  const std::vector<hsize_t> chunk = chunk_shape(dims, element_size);
+  check(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), where,
+        "set chunks of", object_path);
+  check(H5Pset_shuffle(dcpl.get()), where, "set shuffle filter of", object_path);
+  if (gzip_level > 0) {
+    check(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(gzip_level)), where,
+          "set gzip filter of", object_path);
+  }
+  return dcpl;
+}
+
+// Creates a new dataset at path (parents included) and writes all of `data`.
+void write_dataset(const Context& where, const std::string& path, std::span<const hsize_t> dims,
+                   hid_t file_type, hid_t memory_type, std::size_t element_size, int gzip_level,
+                   const void* data) {
+  const Handle space =
+      checked(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose,
+              where, "create dataspace for", path);
+  const Handle dcpl = compressed_dcpl(where, dims, element_size, gzip_level, path);
+  const Handle lcpl = intermediate_groups_lcpl(where, path);
+  const Handle dataset = checked(H5Dcreate2(where.file, path.c_str(), file_type, space.get(),
+                                            lcpl.get(), dcpl.get(), H5P_DEFAULT),
+                                 H5Dclose, where, "create dataset", path);
+  if (element_count(dims) == 0) return;
+  check(H5Dwrite(dataset.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), where,
+        "write dataset", path);
+}
+
+template <class T>
+void write_vector_of(const Context& where, const std::string& path, std::span<const T> values,
+                     int gzip_level) {
+  const hsize_t dims[1] = {values.size()};
+  write_dataset(where, path, dims, NumericType<T>::file(), NumericType<T>::memory(), sizeof(T),
+                gzip_level, values.data());
+}
+
+template <class T>
+void write_matrix_of(const Context& where, const std::string& path, std::int64_t rows,
+                     std::int64_t cols, std::span<const T> values, int gzip_level) {
+  if (rows < 0 || cols < 0) throw_store_error(where.file_path, path, "negative matrix shape");
+  const auto urows = static_cast<std::size_t>(rows);
+  const auto ucols = static_cast<std::size_t>(cols);
+  if (ucols != 0 && urows > std::numeric_limits<std::size_t>::max() / ucols) {
+    throw_store_error(where.file_path, path, "matrix shape overflows");
+  }
+  if (values.size() != urows * ucols) {
+    throw_store_error(where.file_path, path,
+                      "matrix of " + std::to_string(rows) + " x " + std::to_string(cols) +
+                          " given " + std::to_string(values.size()) + " values");
+  }
+  const hsize_t dims[2] = {urows, ucols};
+  write_dataset(where, path, dims, NumericType<T>::file(), NumericType<T>::memory(), sizeof(T),
+                gzip_level, values.data());
+}
+
+}  // namespace
 
 // ---------------------------------------------------------------- numeric
 

@@ -2,11 +2,6 @@
 
 #include <hdf5.h>
 
-#include <hdf5.h>
-
-#include <algorithm>
-#include <cstring>
-#include <limits>
 #include <stdexcept>
 #include <system_error>
 #include <type_traits>
