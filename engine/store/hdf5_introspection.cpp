@@ -91,10 +91,9 @@ void read_canonical(const Context& where, const std::string& path, hid_t file_ty
   values.type += "}";
 }
 
-std::vector<std::int64_t> shape_of(const Context& where, hid_t space, const std::string& path,
-                                   std::size_t& count) {
-  const Handle copy = checked(H5Scopy(space), H5Sclose, where, "copy the dataspace of", path);
-  const std::vector<hsize_t> dims = space_dims(where, copy, path);
+std::vector<std::int64_t> shape_of(const Context& where, const Handle& space,
+                                   const std::string& path, std::size_t& count) {
+  const std::vector<hsize_t> dims = space_dims(where, space, path);
   count = element_count(dims);
   return std::vector<std::int64_t>(dims.begin(), dims.end());
 }
@@ -166,7 +165,7 @@ Hdf5File::Values Hdf5File::read_values(std::string_view dataset_path,
   const Handle space = dataset_space(where, dataset, name);
   Values values;
   std::size_t count = 0;
-  values.shape = shape_of(where, space.get(), name, count);
+  values.shape = shape_of(where, space, name, count);
   if (count == 0) {
     values.type = describe_type(type.get());
     return values;
@@ -198,7 +197,7 @@ Hdf5File::Values Hdf5File::read_attribute_values(std::string_view object_path,
               "get the dataspace of attribute " + in_quotes(attribute_name_text) + " of", object);
   Values values;
   std::size_t count = 0;
-  values.shape = shape_of(where, space.get(), object, count);
+  values.shape = shape_of(where, space, object, count);
   if (count == 0) {
     values.type = describe_type(type.get());
     return values;

@@ -110,6 +110,13 @@ std::vector<std::string> metric_names_of(const RunRecord& record) {
   return names;
 }
 
+// Drops an earlier, incomplete copy of a run and whatever a killed writer left
+// at its staging path (which may be damaged, so it is detached, not read).
+void clear_run_slots(Hdf5File& file, const std::string& group, const std::string& staging) {
+  if (file.exists(group)) file.remove(group);
+  if (file.exists(staging)) file.detach(staging);
+}
+
 }  // namespace
 
 std::string run_group(const std::string& task, std::int32_t run) {
@@ -152,8 +159,7 @@ void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
   // kill can then damage at most the staging group, which a resume discards.
   const std::string group = run_group(job.task, record.run);
   const std::string staging = staging_group(job.task, record.run);
-  if (file.exists(group)) file.remove(group);
-  if (file.exists(staging)) file.detach(staging);
+  clear_run_slots(file, group, staging);
   file.create_group(staging);
   write_samples(file, staging + "/samples", record.samples);
   write_graph(file, staging + "/graph", record);
@@ -188,8 +194,7 @@ void write_run_image(Hdf5File& file, const JobSpec& job, std::int32_t run,
   }
   const std::string group = run_group(job.task, run);
   const std::string staging = staging_group(job.task, run);
-  if (file.exists(group)) file.remove(group);
-  if (file.exists(staging)) file.detach(staging);
+  clear_run_slots(file, group, staging);
   file.copy_from(source, group, staging);  // with its complete mark: staging is never kept
   file.flush();
   file.move(staging, group);
