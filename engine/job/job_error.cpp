@@ -5,6 +5,14 @@
 namespace ggk::engine {
 namespace {
 
+// A message's detail is built from shortened values; this bounds what a caller
+// forgot to shorten.
+constexpr std::size_t kMaxDetailCharacters = 2000;
+
+bool is_continuation_byte(char c) {
+  return (static_cast<unsigned char>(c) & 0xC0) == 0x80;
+}
+
 std::string format_message(const std::string& file, JobFileLocation location,
                            const std::string& key_path, const std::string& detail) {
   std::string message = file;
@@ -13,15 +21,28 @@ std::string format_message(const std::string& file, JobFileLocation location,
   }
   message += ": ";
   if (!key_path.empty()) message += display_key(key_path) + ": ";
-  return message + detail;
+  return message + shortened(detail, kMaxDetailCharacters);
 }
 
 }  // namespace
 
 std::string display_key(const std::string& key_path) {
   const std::size_t dot = key_path.rfind('.');
-  if (dot == std::string::npos) return key_path;
-  return '[' + key_path.substr(0, dot) + "] " + key_path.substr(dot + 1);
+  if (dot == std::string::npos) return shortened(key_path);
+  return '[' + shortened(std::string_view(key_path).substr(0, dot)) + "] " +
+         shortened(std::string_view(key_path).substr(dot + 1));
+}
+
+std::string shortened(std::string_view text, std::size_t max_characters) {
+  std::size_t characters = 0;
+  std::size_t cut = text.size();  // byte offset after max_characters characters
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (is_continuation_byte(text[i])) continue;
+    if (characters == max_characters) cut = i;
+    ++characters;
+  }
+  if (characters <= max_characters) return std::string(text);
+  return std::string(text.substr(0, cut)) + "\u2026(" + std::to_string(characters) + " characters)";
 }
 
 std::string single_quoted(std::string_view text) {

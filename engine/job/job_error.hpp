@@ -7,8 +7,10 @@
 // e.g. "jobs/bad.toml:12:1: [sweep] kernels: expected ... got -3". LINE:COLUMN is
 // left out when the error has no place in the file (a missing table, an unreadable
 // file); "[TABLE] " is left out for top-level keys, and "KEY: " for TOML syntax
-// errors. The CLI prints what() and exits with status 2.
+// errors. The CLI prints what() and exits with status 2. Values a message echoes
+// are shortened (shortened() below); so are the key and, as a last guard, DETAIL.
 
+#include <cstddef>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -46,5 +48,14 @@ std::string display_key(const std::string& key_path);
 
 // 'text', in single quotes, as messages show file names and keys.
 std::string single_quoted(std::string_view text);
+
+// The longest value a message echoes, in characters (UTF-8 code points).
+inline constexpr std::size_t kMaxEchoedCharacters = 80;
+
+// `text` when it has at most max_characters characters, else its first
+// max_characters characters and "…(N characters)": messages echo values from the
+// job file (names, keys, file names) through it, so that a 1 MB value gives a
+// short message. Never splits a UTF-8 sequence.
+std::string shortened(std::string_view text, std::size_t max_characters = kMaxEchoedCharacters);
 
 }  // namespace ggk::engine

@@ -6,10 +6,8 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <span>
-#include <sstream>
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
@@ -18,18 +16,23 @@
 
 #include <toml++/toml.h>
 
+#include "engine/job/job_input.hpp"
+#include "engine/job/sweep.hpp"
 #include "engine/job/toml_table_reader.hpp"
 
 namespace ggk::engine {
 namespace {
 
 constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
+// A job's name names its default output file; 100 characters keep
+// "<name>.h5" and the names derived from it far below NAME_MAX (255 bytes).
+constexpr std::size_t kMaxNameCharacters = 100;
+// The longest file name (one path component) Linux file systems take, NAME_MAX.
+constexpr std::size_t kMaxFileNameBytes = 255;
 
 // The keys every job has; the registered tasks' names (their tables) join them.
 constexpr std::array<std::string_view, 8> kCommonTopLevelKeys = {
     "name", "task", "runs", "seed", "sweep", "basis", "lspi", "output"};
-constexpr std::array<std::string_view, 5> kSweepKeys = {"basis", "kernels", "sigma", "solver",
-                                                        "lambda"};
 constexpr std::array<std::string_view, 2> kBasisKeys = {"scheme", "truncation"};
 constexpr std::array<std::string_view, 4> kLspiKeys = {"gamma", "max_iterations", "fold_duplicates",
                                                        "min_rcond"};
@@ -60,7 +63,7 @@ kernels::BasisScheme scheme_from(const std::string& name) {
 }
 
 SweepAxes parse_sweep(const TomlTableReader& job) {
-  const std::optional<TomlTableReader> sweep = job.subtable("sweep", kSweepKeys);
+  const std::optional<TomlTableReader> sweep = job.subtable("sweep", kSweepTableKeys);
   if (!sweep) job.fail("sweep", "required table [sweep] is missing");
   SweepAxes axes;
   for (const std::string& name :
@@ -103,10 +106,17 @@ LspiSettings parse_lspi(const TomlTableReader& job) {
 // access(2) and creates nothing.
 std::optional<std::string> output_file_problem(const std::filesystem::path& file) {
   if (file.empty()) return "the output file name is empty";
-  const std::string shown = single_quoted(file.string());
+  const std::string shown = single_quoted(shortened(file.string()));
   if (!file.has_filename()) return shown + " names a directory, not a file";
+  for (const std::filesystem::path& part : file) {
+    if (part.native().size() > kMaxFileNameBytes) {
+      return shown + ": the name " + single_quoted(shortened(part.native())) + " is " +
+             std::to_string(part.native().size()) + " bytes, more than file systems allow (" +
+             std::to_string(kMaxFileNameBytes) + ")";
+    }
+  }
   const std::filesystem::path directory = file.has_parent_path() ? file.parent_path() : ".";
-  const std::string shown_directory = single_quoted(directory.string());
+  const std::string shown_directory = single_quoted(shortened(directory.string()));
   std::error_code error;
   const auto directory_status = std::filesystem::status(directory, error);
   if (!std::filesystem::exists(directory_status)) {
@@ -186,7 +196,12 @@ JobSpec parse_job(std::string toml_text, const std::filesystem::path& source_fil
   spec.name = job.string("name");
   if (!is_valid_name(spec.name)) {
     job.fail("name", "expected letters, digits, '_' or '-' only (it names output files), got \"" +
-                         spec.name + "\"");
+                         shortened(spec.name) + "\"");
+  }
+  if (spec.name.size() > kMaxNameCharacters) {
+    job.fail("name", "expected at most " + std::to_string(kMaxNameCharacters) +
+                         " characters (it names the default output file, results/<name>.h5), got " +
+                         std::to_string(spec.name.size()) + " characters");
   }
   spec.task = job.choice("task", task_names);
   spec.runs = static_cast<std::int32_t>(job.integer("runs", {1, kInt32Max}));
@@ -214,18 +229,11 @@ JobSpec parse_job(std::string toml_text, const std::filesystem::path& source_fil
 
 JobSpec load_job_file(const std::filesystem::path& path, std::span<const TaskTable> tasks,
                       const JobLoadOptions& options) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    throw JobError(path.string(), {}, "", "cannot read the job file: it is a directory");
+  RegularFileText file = read_regular_file(path);
+  if (!file.problem.empty()) {
+    throw JobError(path.string(), {}, "", "cannot read the job file: it " + file.problem);
   }
-  std::ifstream stream(path, std::ios::binary);
-  if (!stream) {
-    throw JobError(path.string(), {}, "",
-                   std::string("cannot read the job file: ") + std::strerror(errno));
-  }
-  std::ostringstream text;
-  text << stream.rdbuf();
-  return parse_job(std::move(text).str(), path, tasks, options);
+  return parse_job(std::move(file.text), path, tasks, options);
 }
 
 }  // namespace ggk::engine

@@ -46,8 +46,15 @@ std::optional<std::string_view> closest_spelling(std::string_view word,
   std::size_t best_distance = threshold + 1;
   for (const std::string_view candidate : candidates) {
     const std::string lowered_candidate = lower(candidate);
+    const bool truncated = lowered.size() >= 3 && lowered_candidate.starts_with(lowered);
+    // The distance is at least the difference in length: skip words that cannot
+    // win (and a 1 MB key's table of distances).
+    const std::size_t length_gap = lowered.size() > lowered_candidate.size()
+                                       ? lowered.size() - lowered_candidate.size()
+                                       : lowered_candidate.size() - lowered.size();
+    if (length_gap >= best_distance && !truncated) continue;
     std::size_t distance = edit_distance(lowered, lowered_candidate);
-    if (distance > threshold && lowered.size() >= 3 && lowered_candidate.starts_with(lowered)) {
+    if (distance > threshold && truncated) {
       distance = threshold;  // a truncated key: plausible, but any closer spelling wins
     }
     if (distance < best_distance) {

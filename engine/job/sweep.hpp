@@ -5,12 +5,18 @@
 // lambda, with the last axis varying fastest, each axis in the order the job file
 // lists its values. Point i has index i. Every run of the job fits every point.
 
+#include <array>
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "engine/job/job_spec.hpp"
 
 namespace ggk::engine {
+
+// The keys of a job file's [sweep] table, one per axis.
+inline constexpr std::array<std::string_view, 5> kSweepTableKeys = {"basis", "kernels", "sigma",
+                                                                    "solver", "lambda"};
 
 struct SweepPoint {
   std::int32_t index = 0;  // position in expand_sweep()'s result

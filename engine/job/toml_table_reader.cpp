@@ -100,9 +100,7 @@ std::string describe_value(const toml::node& node) {
     case toml::node_type::boolean:
       return node.as_boolean()->get() ? "true" : "false";
     case toml::node_type::string: {
-      std::string text = node.as_string()->get();
-      if (text.size() > 40) text = text.substr(0, 37) + "...";
-      return '"' + text + '"';
+      return '"' + shortened(node.as_string()->get(), 40) + '"';
     }
     case toml::node_type::array:
       return node.as_array()->empty() ? "an empty array" : "an array";
