@@ -20,6 +20,7 @@
 #include "engine/job/job_spec.hpp"
 #include "engine/job/run_record.hpp"
 #include "engine/job/sweep.hpp"
+#include "kernels/eigen_types.hpp"
 #include "kernels/random_stream.hpp"
 
 namespace ggk::engine {
@@ -62,6 +63,17 @@ inline const std::vector<std::string>& discrete_metric_names() {
                                                  "lspi_iterations", "graph_nodes"};
   return names;
 }
+
+// For every state (row of state_vectors), the nearest visited state (itself when
+// visited) and the Euclidean distance to it, (row(s) - row(v)).norm(); ties go
+// to the lowest state id, exactly as a scan over the visited states in id order.
+// With no visited state, every unvisited state gets state 0 at infinite distance.
+// GGK values of unvisited states follow the continuous form
+// SP(s, c) = ED(s, n(s)) + SP(n(s), c). A k-d tree: O(n log n) on grids, where
+// the scan was O(n^2). Queries run as oneTBB tasks.
+void nearest_visited_states(const kernels::RowMatrixXd& state_vectors,
+                            const std::vector<std::uint8_t>& visited,
+                            std::vector<std::int32_t>& nearest, std::vector<double>& distance);
 
 // Runs one run of the protocol for every sweep point. Throws only on programmer
 // errors; a fit that cannot start (more kernels than graph nodes) or whose LSPI
