@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <span>
@@ -9,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/job/kernel_width.hpp"
 #include "sims/arm/arm.hpp"
 
 namespace ggk::engine {
@@ -159,6 +161,16 @@ std::vector<TomlTableReader> obstacle_tables(const TomlTableReader& table) {
   return readers;
 }
 
+// State vectors are joint angles in grid steps: distinct poses are at least 1
+// apart. A kernel's distance is at most a shortest path on the sample graph
+// (fewer than num_states edges, each at most the grid's diagonal) plus the
+// Euclidean distance to the nearest graph node (at most the diagonal).
+DistanceScale arm_distance_scale(const arm::Arm& built) {
+  const double diagonal = std::hypot(built.shoulder_steps() - 1, built.elbow_steps() - 1);
+  return {1.0, static_cast<double>(built.num_states()) * std::max(diagonal, 1.0),
+          "between neighbouring poses", "the number of poses times the joint grid's diagonal"};
+}
+
 }  // namespace
 
 arm::ArmConfig parse_arm_table(const TomlTableReader& job) {
@@ -205,8 +217,9 @@ arm::ArmConfig parse_arm_table(const TomlTableReader& job) {
 
   // Build the arm: what only the whole geometry can tell (no free pose, no goal,
   // A colliding) is reported at the key that set the part at fault.
+  std::optional<arm::Arm> built;
   try {
-    const arm::Arm built(config);
+    built.emplace(config);
   } catch (const arm::ArmConfigError& error) {
     switch (error.field()) {
       case arm::ArmConfigField::links:
@@ -229,6 +242,7 @@ arm::ArmConfig parse_arm_table(const TomlTableReader& job) {
     }
     table->fail_table(error.what());
   }
+  check_kernel_widths(job, arm_distance_scale(*built));
   return config;
 }
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <span>
@@ -11,6 +13,7 @@
 
 #include <toml++/toml.h>
 
+#include "engine/job/kernel_width.hpp"
 #include "sims/khepera/khepera.hpp"
 
 namespace ggk::engine {
@@ -369,6 +372,23 @@ void check_simulator(const khepera::KheperaConfig& config, const TomlTableReader
   }
 }
 
+// Readings lie in [0, max_reading]^8: none are farther apart than the box's
+// diagonal. They are continuous, so there is no smallest distance between
+// distinct ones; the check takes a millionth of the sensor range, below any
+// sensor's resolution. A kernel's distance is at most a shortest path over the
+// SOM's units (fewer edges than units) plus a best-match distance; prototypes
+// may lie outside the box (the principal-components initialisation spans the
+// samples' spread), allowed for with a factor of 10 on every edge.
+DistanceScale khepera_distance_scale(const KheperaTaskConfig& config, std::int64_t readings) {
+  const double max_reading = config.simulator.sensors.max_reading;
+  const double diagonal = std::sqrt(static_cast<double>(sims::khepera::kNumSensors)) * max_reading;
+  const std::int64_t units =
+      config.som_grid_from_samples ? readings : std::int64_t{config.som.rows} * config.som.cols;
+  return {max_reading * 1e-6, 10.0 * static_cast<double>(units + 1) * diagonal,
+          "a millionth of the sensor range max_reading",
+          "the SOM's units times 10 times the diagonal of the readings' range"};
+}
+
 }  // namespace
 
 KheperaTaskConfig parse_khepera_table(const TomlTableReader& job,
@@ -406,6 +426,7 @@ KheperaTaskConfig parse_khepera_table(const TomlTableReader& job,
   const TomlTableReader rewards = table->subtable_or_empty("rewards", kRewardKeys);
   simulator.rewards = parse_rewards(rewards);
   parse_som(*table, table->subtable_or_empty("som", kSomKeys), readings, config);
+  check_kernel_widths(job, khepera_distance_scale(config, readings));
 
   // The arena: exactly one of [khepera.arena] and arena_file.
   if (table->has("arena") && table->has("arena_file")) {

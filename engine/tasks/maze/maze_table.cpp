@@ -1,9 +1,15 @@
 #include "engine/tasks/maze/maze_table.hpp"
 
 #include <array>
+#include <cmath>
+#include <cstdint>
 #include <limits>
+#include <optional>
+#include <string>
 #include <string_view>
+#include <vector>
 
+#include "engine/job/kernel_width.hpp"
 #include "sims/maze/maze.hpp"
 
 namespace ggk::engine {
@@ -13,6 +19,37 @@ constexpr std::array<std::string_view, 6> kMazeKeys = {
     "map", "map_file", "slip", "series", "steps_per_series", "test_max_steps"};
 constexpr std::string_view kDefaultMapFile = "maps/four-rooms.txt";
 constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
+
+// Whether some free cell reaches a goal. Moves go between neighbouring non-wall
+// cells both ways (a blocked move stays put), so the cells that reach a goal are
+// those a search from the goals reaches. Linear in the states.
+bool goal_reachable(const sims::maze::Maze& maze) {
+  std::vector<std::uint8_t> reached(static_cast<std::size_t>(maze.num_states()), 0);
+  std::vector<std::int32_t> frontier(maze.goal_states().begin(), maze.goal_states().end());
+  for (const std::int32_t goal : frontier) reached[static_cast<std::size_t>(goal)] = 1;
+  while (!frontier.empty()) {
+    const std::int32_t state = frontier.back();
+    frontier.pop_back();
+    if (!maze.is_goal(state)) return true;
+    for (std::int32_t action = 0; action < maze.num_actions(); ++action) {
+      const std::int32_t next = maze.move(state, action);
+      if (reached[static_cast<std::size_t>(next)]) continue;
+      reached[static_cast<std::size_t>(next)] = 1;
+      frontier.push_back(next);
+    }
+  }
+  return false;
+}
+
+// State vectors are (row, col): distinct cells are at least 1 apart. A kernel's
+// distance is at most a shortest path on the sample graph (fewer than
+// num_states edges, each at most the map's diagonal) plus the Euclidean distance
+// to the nearest graph node (at most the diagonal).
+DistanceScale maze_distance_scale(const sims::maze::Maze& maze) {
+  const double diagonal = std::hypot(maze.rows() - 1, maze.cols() - 1);
+  return {1.0, static_cast<double>(maze.num_states()) * diagonal, "between neighbouring cells",
+          "the number of states times the map's diagonal"};
+}
 
 }  // namespace
 
@@ -36,15 +73,23 @@ sims::maze::MazeConfig parse_maze_table(const TomlTableReader& job,
     inputs.push_back(read_job_input(maze, "map_file", job_dir, map_file, "map file"));
     config.map_text = inputs.back().text;
   }
+  // Problems of the map name the map file, if there is one.
+  const std::string map_shown =
+      map_key == "map_file"
+          ? single_quoted(shortened(maze.string("map_file", std::string(kDefaultMapFile)))) + ": "
+          : std::string();
+  std::optional<sims::maze::Maze> parsed;
   try {
-    const sims::maze::Maze parsed(config.map_text);
+    parsed.emplace(config.map_text);
   } catch (const sims::maze::MazeParseError& error) {
-    std::string detail = error.what();
-    if (map_key == "map_file") {
-      detail = single_quoted(maze.string("map_file", std::string(kDefaultMapFile))) + ": " + detail;
-    }
-    maze.fail(map_key, detail);
+    maze.fail(map_key, map_shown + error.what());
   }
+  if (!goal_reachable(*parsed)) {
+    maze.fail(map_key, map_shown +
+                           "no free cell '.' can reach a goal 'G' (walls enclose every goal), so "
+                           "every fit would score success 0");
+  }
+  check_kernel_widths(job, maze_distance_scale(*parsed));
 
   config.slip = maze.number("slip", NumberRange::half_open(0.0, 1.0), config.slip);
   config.series = static_cast<std::int32_t>(maze.integer("series", {1, kInt32Max}, config.series));

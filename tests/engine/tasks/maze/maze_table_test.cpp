@@ -1,0 +1,54 @@
+// The [maze] table refuses maps on which no fit can succeed: a goal walled off
+// from every free cell.
+
+#include "engine/tasks/maze/maze_table.hpp"
+
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "engine/job/job_file.hpp"
+#include "engine/tasks/task_list.hpp"
+
+namespace ggk::engine {
+namespace {
+
+// The JobError message of a job with the inline map `map`, or "ok".
+std::string outcome(const std::string& map) {
+  const std::string text =
+      "name = \"m\"\ntask = \"maze\"\nruns = 1\nseed = 0\n[sweep]\nkernels = [4]\n"
+      "sigma = [2.0]\n[maze]\nmap = \"\"\"\n" +
+      map + "\"\"\"\n";
+  JobLoadOptions options;
+  options.check_output = false;
+  try {
+    parse_job(text, "jobs/walled.toml", task_tables(), options);
+  } catch (const JobError& error) {
+    return error.what();
+  }
+  return "ok";
+}
+
+TEST(MazeTable, AGoalWalledOffFromEveryFreeCellIsRefused) {
+  const std::string message = outcome(
+      "#######\n"
+      "#...#G#\n"
+      "#...###\n"
+      "#######\n");
+  EXPECT_NE(message.find("jobs/walled.toml:9:1: [maze] map: no free cell '.' can reach a goal"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("success 0"), std::string::npos) << message;
+  // Goals next to each other, all walled off together.
+  EXPECT_NE(outcome("#####\n#GG##\n###.#\n#####\n").find("no free cell"), std::string::npos);
+}
+
+TEST(MazeTable, AGoalSomeFreeCellReachesIsAccepted) {
+  // One room walled off from the goal, the other not.
+  EXPECT_EQ(outcome("#######\n#.#..G#\n#######\n"), "ok");
+  // A goal reached only through another goal.
+  EXPECT_EQ(outcome("#####\n#.GG#\n#####\n"), "ok");
+}
+
+}  // namespace
+}  // namespace ggk::engine
