@@ -410,7 +410,8 @@ KheperaTaskConfig parse_khepera_table(const TomlTableReader& job,
       table->integer("test_episodes", {1, kInt32Max}, simulator.test_episodes));
   // Reading ids are 32-bit: a run's readings (each series' start and one per step)
   // must fit.
-  const std::int64_t readings = std::int64_t{simulator.series} * (simulator.steps_per_series + 1);
+  const std::int64_t readings =
+      std::int64_t{simulator.series} * (std::int64_t{simulator.steps_per_series} + 1);
   if (readings > kInt32Max) {
     table->fail("steps_per_series",
                 "series x (steps_per_series + 1) = " + std::to_string(readings) +
