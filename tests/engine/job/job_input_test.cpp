@@ -128,6 +128,18 @@ TEST_F(JobInputTest, AFifoAsJobFileIsRefusedWithoutBlocking) {
   expect_contains(message, "job.toml: cannot read the job file: it is a FIFO (named pipe)");
 }
 
+TEST_F(JobInputTest, AFifoAsArenaFileIsRefusedWithoutBlocking) {
+  make_fifo("arena.toml");
+  const std::string message = load_outcome(
+      write("khepera.toml",
+            "name = \"k\"\ntask = \"khepera\"\nruns = 1\nseed = 0\n"
+            "[sweep]\nkernels = [4]\nsigma = [1000.0]\n"
+            "[khepera]\nseries = 4\nsteps_per_series = 20\narena_file = \"arena.toml\"\n"
+            "[khepera.som]\ngrid_from_samples = true\n"));
+  expect_contains(message, "khepera.toml:11:1: [khepera] arena_file: arena file 'arena.toml'");
+  expect_contains(message, "is a FIFO (named pipe), not a regular file");
+}
+
 TEST_F(JobInputTest, ADeviceAsMapFileIsRefusedNotReadUntilMemoryRunsOut) {
   const std::string message = map_file_outcome("/dev/zero");
   expect_contains(message, "[maze] map_file: map file '/dev/zero'");
