@@ -21,6 +21,7 @@
 #include "engine/store/results_diff.hpp"
 #include "engine/store/results_info.hpp"
 #include "engine/store/results_merge.hpp"
+#include "engine/store/results_verify.hpp"
 #include "engine/tasks/task_list.hpp"
 #if GGK_WITH_MPI
 #include "engine/run/mpi_runner.hpp"
@@ -106,6 +107,11 @@ int main(int argc, char** argv) {
   CLI::App* info = app.add_subcommand("info", "Describe a results file");
   info->add_option("file", info_path, "results file (HDF5)")->required();
 
+  std::string verify_path;
+  CLI::App* verify = app.add_subcommand(
+      "verify", "Read every dataset of a results file back: exit 0 when whole, 1 when damaged");
+  verify->add_option("file", verify_path, "results file (HDF5)")->required();
+
   std::vector<std::string> diff_files;
   CLI::App* diff = app.add_subcommand(
       "diff", "Exit 0 when two results files hold the same results, 1 (naming them) when not");
@@ -152,6 +158,7 @@ int main(int argc, char** argv) {
       engine::print_results_info(info_path, std::cout);
       return 0;
     }
+    if (*verify) return engine::verify_results(verify_path, std::cout) ? 0 : 1;
     if (*diff) return engine::diff_results(diff_files[0], diff_files[1], std::cout) ? 0 : 1;
     if (*merge) {
       std::vector<std::filesystem::path> shards(merge_inputs.begin(), merge_inputs.end());

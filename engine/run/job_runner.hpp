@@ -15,7 +15,6 @@
 #include "engine/job/job_spec.hpp"
 #include "engine/job/run_record.hpp"
 #include "engine/job/usage_error.hpp"
-#include "engine/store/hdf5_file.hpp"
 
 namespace ggk::engine {
 
@@ -56,16 +55,9 @@ RunRecord compute_run(const JobSpec& job, std::int32_t run);
 // The fits of `record` that failed (status invalid or solver_failed).
 std::int64_t failed_fits_of(const RunRecord& record);
 
-// The results file of a job, opened (--resume) or created as run_job does it, with
-// every rule of the CLI (exists without --resume/--overwrite, another job's file,
-// changed input files: UsageError), and the runs still to compute, ascending.
-struct OpenedResults {
-  Hdf5File file;
-  std::filesystem::path output;
-  std::vector<std::int32_t> pending;
-  std::int32_t skipped = 0;  // runs of the selection already complete
-};
-OpenedResults open_results(const JobSpec& job, const RunOptions& options);
+// Prints open_results' notes (a damaged run computed again, an empty file
+// started afresh) to stderr, one "ggk: " line each.
+void print_notes(const std::vector<std::string>& notes);
 
 // Sets oneTBB's thread limit for the caller's lifetime (threads = 0: all cores) and
 // makes the BLAS single-threaded per call; throws UsageError when the BLAS is not

@@ -24,6 +24,7 @@
 #include "engine/job/job_error.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/run/open_results.hpp"
 #include "engine/run/progress.hpp"
 #include "engine/store/run_store.hpp"
 #include "engine/store/store_writer.hpp"
@@ -181,7 +182,7 @@ class Coordinator {
       : job_(job),
         options_(options),
         size_(size),
-        output_(opened.output),
+        target_(std::move(opened.target)),
         skipped_(opened.skipped),
         pending_(opened.pending.begin(), opened.pending.end()),
         total_(static_cast<std::int32_t>(opened.pending.size())),
@@ -216,7 +217,7 @@ class Coordinator {
   const JobSpec& job_;
   const MpiRunOptions& options_;
   const int size_;
-  const std::filesystem::path output_;
+  ResultsTarget target_;  // before writer_: the lock outlives the file
   const std::int32_t skipped_;
 
   std::mutex mutex_;  // pending_, failure_, local_run_
@@ -245,6 +246,7 @@ void Coordinator::compute_locally() {
       failed_fits_.fetch_add(failed_fits_of(*record));
       writer_.submit([this, record](Hdf5File& file) {
         write_run(file, job_, *record);
+        target_.publish(file);
         written_.fetch_add(1);
         progress_->run_done();
       });
@@ -291,6 +293,7 @@ void Coordinator::receive(const MPI_Status& status) {
         write_run_image(file, job_, run,
                         std::span<const unsigned char>(bytes->data() + sizeof(ResultHeader),
                                                        bytes->size() - sizeof(ResultHeader)));
+        target_.publish(file);
         written_.fetch_add(1);
         progress_->run_done();
       });
@@ -331,9 +334,10 @@ void Coordinator::stop_now(const std::string& why, int exit_status) {
                "written to %s and are complete; finish the job with `ggk run %s --resume -o %s` "
                "(any number of ranks, or none)\n",
                why.c_str(), runs_in_flight().c_str(), written_.load(), total_,
-               output_.string().c_str(), job_.source_file.string().c_str(),
-               output_.string().c_str());
+               target_.output().string().c_str(), job_.source_file.string().c_str(),
+               target_.output().string().c_str());
   std::fflush(stderr);
+  target_.release_lock();  // a resume on another node must not find it locked
   std::_Exit(exit_status);
 }
 
@@ -401,12 +405,15 @@ int Coordinator::run(RunSummary& summary) {
                  failure_.c_str());
     return 1;
   }
-  writer_.submit([this](Hdf5File& file) { write_summary(file, job_); });
+  writer_.submit([this](Hdf5File& file) {
+    write_summary(file, job_);
+    target_.publish(file);
+  });
   writer_.close();
   std::signal(SIGTERM, SIG_DFL);
   std::signal(SIGINT, SIG_DFL);
 
-  summary.output = output_;
+  summary.output = target_.output();
   summary.runs_computed = total_;
   summary.runs_skipped = skipped_;
   summary.fits = static_cast<std::int64_t>(total_) * fits_per_run;

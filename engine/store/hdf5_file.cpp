@@ -18,6 +18,21 @@ static_assert(std::is_same_v<hid_t, std::int64_t>, "HDF5 >= 1.10 uses 64-bit hid
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// HDF5 closes every file still open when the process exits (H5_term_library,
+// registered with atexit). After a failed H5Fclose (a full disk, /dev/null)
+// that second close reads freed memory and crashes, turning a reported error
+// into a SIGSEGV. Every file here is closed by its owner, so the exit hook is
+// switched off before the library initialises (a static initialiser of the
+// one file every user of Hdf5File links).
+[[maybe_unused]] const bool kNoHdf5ExitHook = [] {
+  H5dont_atexit();
+  return true;
+}();
+
+}  // namespace
+
 // ================================================================ Hdf5File
 
 Hdf5File::Hdf5File(std::filesystem::path path, std::int64_t id, bool read_only)
@@ -104,6 +119,17 @@ Hdf5File Hdf5File::open_read_only(const std::filesystem::path& path) {
 
 Hdf5File Hdf5File::open_read_write(const std::filesystem::path& path) {
   return open(path, false);
+}
+
+void Hdf5File::close() {
+  if (id_ < 0) return;
+  disable_automatic_error_printing();
+  const hid_t id = std::exchange(id_, -1);
+  if (H5Fclose(id) < 0) throw_hdf5_error(path_, "close", "/");
+}
+
+void Hdf5File::renamed_to(const std::filesystem::path& path) {
+  path_ = path;
 }
 
 void Hdf5File::set_gzip_level(int level) {

@@ -12,17 +12,23 @@
 // Layout on disk, chosen so that h5py/pandas read it without help:
 //  - numeric datasets are little-endian IEEE/two's complement, 1-D or 2-D
 //    row-major; non-empty ones are chunked with shuffle + gzip (level
-//    gzip_level(), default 4); empty ones (a 0 in the shape) are contiguous;
+//    gzip_level(), default 4) + a Fletcher32 checksum per chunk; empty ones (a 0
+//    in the shape) are contiguous;
 //  - string datasets and string attributes are variable-length UTF-8; readers
 //    also accept fixed-length strings;
 //  - a sparse matrix is a CSR triple group <path>/{indptr int64, indices int32,
 //    data double} with attribute shape = int64[2] {rows, cols};
-//  - a table is a 1-D extendable, chunked, uncompressed dataset (see
+//  - a table is a 1-D extendable, chunked, checksummed, uncompressed dataset (see
 //    "Crashes") of a compound type (int32, int64, double and fixed-length
 //    NUL-padded UTF-8 string columns), so that
 //    pandas.DataFrame(h5py.File(f)[path][:]) reads it in one call.
 // Default library format bounds (files readable by HDF5 >= 1.8, h5py on
-// Debian 12).
+// Debian 12). The per-chunk checksums make damage to the numbers an error on
+// reading (ggk verify reads every dataset), not wrong values. The 1.8/1.10
+// formats would add checksums to metadata too, but were tried and left: with
+// them a killed writer's file (1.10) does not open without h5clear, and
+// HDF5 1.10.8's H5Ocopy crashes on dense string attributes (1.8).
+// Variable-length strings live in the global heap, which no filter covers.
 //
 // Crashes: HDF5 1.10 has no journal. After a kill -9 between two flushes the
 // file opens with everything written up to the last flush() that returned;
@@ -126,7 +132,13 @@ class Hdf5File {
   Hdf5File& operator=(Hdf5File&& other) noexcept;
   Hdf5File(const Hdf5File&) = delete;
   Hdf5File& operator=(const Hdf5File&) = delete;
-  ~Hdf5File();  // closes the file; errors on close are dropped (call flush() first)
+  ~Hdf5File();  // closes the file; errors on close are dropped (call close() to see them)
+  // Closes the file now (writing what is buffered); throws when HDF5 cannot.
+  // The object is then closed whatever happened; a second close() does nothing.
+  void close();
+  // The file was renamed on disk while open (the handle follows the file): name
+  // it so in messages from now on.
+  void renamed_to(const std::filesystem::path& path);
 
   const std::filesystem::path& path() const { return path_; }
   bool read_only() const { return read_only_; }

@@ -230,10 +230,13 @@ void Hdf5File::create_table(std::string_view path, std::span<const TableColumn> 
       checked(H5Screate_simple(1, dims, max_dims), H5Sclose, where, "create dataspace for", name);
   const Handle dcpl = make_property_list(H5P_DATASET_CREATE, where, name);
   const hsize_t chunk[1] = {static_cast<hsize_t>(chunk_rows)};
-  // No filters: appending to a compressed chunk rewrites the whole chunk in
-  // place, and a kill in the middle would destroy rows already flushed. An
-  // unfiltered chunk keeps its address and the bytes of earlier rows.
+  // A checksum but no compression. Appending to a filtered chunk rewrites the
+  // whole chunk, and a kill in the middle could destroy rows already flushed;
+  // the engine therefore writes each table whole under a staging path
+  // (run_store.hpp) and never appends to a committed one. The checksum keeps
+  // the chunk's size, so a rewrite stays in place.
   check(H5Pset_chunk(dcpl.get(), 1, chunk), where, "set chunks of", name);
+  check(H5Pset_fletcher32(dcpl.get()), where, "set the checksum filter of", name);
   const Handle lcpl = intermediate_groups_lcpl(where, name);
   checked(
       H5Dcreate2(id_, name.c_str(), type.get(), space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),

@@ -117,6 +117,20 @@ void clear_run_slots(Hdf5File& file, const std::string& group, const std::string
   if (file.exists(staging)) file.detach(staging);
 }
 
+// Unlinks the object at `path` and frees its space; if it cannot be read well
+// enough to be freed (damaged by a kill or a full disk), detaches it instead
+// (its space stays unused), and if even that fails leaves it: it is scratch.
+void drop(Hdf5File& file, const std::string& path) {
+  try {
+    file.remove(path);
+  } catch (const std::runtime_error&) {
+    try {
+      file.detach(path);
+    } catch (const std::runtime_error&) {  // nothing else to do with scratch space
+    }
+  }
+}
+
 }  // namespace
 
 std::string run_group(const std::string& task, std::int32_t run) {
@@ -207,6 +221,20 @@ bool run_is_complete(const Hdf5File& file, const std::string& task, std::int32_t
          file.read_int64_attribute(group, "complete") == 1;
 }
 
+void discard_run(Hdf5File& file, const std::string& task, std::int32_t run) {
+  // Moving a link reads nothing of the object, which may be damaged; the
+  // staging group it goes to is dropped whole (drop_staging).
+  const std::string group = run_group(task, run);
+  const std::string discarded = kStagingRoot + "/discarded" + group;
+  if (file.exists(discarded)) drop(file, discarded);
+  file.move(group, discarded);
+  file.flush();
+}
+
+void drop_staging(Hdf5File& file) {
+  if (file.exists(kStagingRoot)) drop(file, kStagingRoot);
+}
+
 std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job) {
   // Whatever a killed writer left under the staging path may be damaged: detach it.
   if (file.exists(kStagingRoot)) file.detach(kStagingRoot);
@@ -223,8 +251,16 @@ std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job)
 }
 
 std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t runs) {
+  // Staged like a run: the new table is written whole under /.staging, then the
+  // old one is moved aside and the new one into its place. A failure (a full
+  // disk) leaves the old summary, or none, never a half-written one where
+  // readers look, and a later write_summary starts again from the runs.
   const std::string path = "/" + task + "/summary";
-  if (file.exists(path)) file.remove(path);
+  const std::string staged = kStagingRoot + path;
+  const std::string retired = kStagingRoot + path + "_old";
+  for (const std::string& leftover : {staged, retired}) {
+    if (file.exists(leftover)) drop(file, leftover);
+  }
   std::vector<TableRow> rows;
   std::vector<TableColumn> columns;
   for (std::int32_t run = 0; run < runs; ++run) {
@@ -233,9 +269,15 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
     if (columns.empty()) columns = file.read_table_columns(table);
     for (TableRow& row : file.read_table(table)) rows.push_back(std::move(row));
   }
-  if (columns.empty()) return 0;
-  file.create_table(path, columns);
-  file.append_rows(path, rows);
+  if (!columns.empty()) {
+    file.create_table(staged, columns);
+    file.append_rows(staged, rows);
+    file.flush();
+  }
+  if (file.exists(path)) file.move(path, retired);
+  if (!columns.empty()) file.move(staged, path);
+  file.flush();
+  drop_staging(file);
   file.flush();
   return static_cast<std::int64_t>(rows.size());
 }

@@ -53,8 +53,16 @@ bool run_is_complete(const Hdf5File& file, const std::string& task, std::int32_t
 // complete ones.
 std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job);
 
-// (Re)writes /<task>/summary from the fit_metrics of every complete run.
-// Returns the number of rows.
+// Takes a (damaged) run out of the results without reading it: its link moves
+// under the staging group, which drop_staging() frees (or detaches).
+void discard_run(Hdf5File& file, const std::string& task, std::int32_t run);
+
+// Removes the whole staging group (scratch of finished writes, discarded runs).
+void drop_staging(Hdf5File& file);
+
+// (Re)writes /<task>/summary from the fit_metrics of every complete run, staged
+// (written whole under /.staging, then moved into place), and removes the
+// staging group: call it when no run is being written. Returns the number of rows.
 std::int64_t write_summary(Hdf5File& file, const JobSpec& job);
 // The same for a file whose job is known only by its task and run count.
 std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t runs);

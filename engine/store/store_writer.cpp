@@ -69,9 +69,20 @@ void StoreWriter::wait() {
 void StoreWriter::close() {
   require_not_writer_thread("close");
   stop_thread();
+  // Closing writes what HDF5 still buffers: a failure there (a full disk) is
+  // an error of the job, not something to drop.
+  std::exception_ptr close_failure;
+  if (file_ && !failed()) {
+    try {
+      file_->close();
+    } catch (...) {
+      close_failure = std::current_exception();
+    }
+  }
   file_.reset();
   std::unique_lock lock(mutex_);
   if (failure_) rethrow_failure(lock);
+  if (close_failure) std::rethrow_exception(close_failure);
 }
 
 bool StoreWriter::failed() const {

@@ -68,7 +68,8 @@ class StoreWriter {
   void wait();
 
   // wait(), then stops the thread and closes the file. Rethrows the failure,
-  // if any; later submit() calls throw std::logic_error.
+  // if any, or the failure to close the file; later submit() calls throw
+  // std::logic_error.
   void close();
 
   bool failed() const;

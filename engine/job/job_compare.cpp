@@ -1,0 +1,71 @@
+#include "engine/job/job_compare.hpp"
+
+#include <sstream>
+
+#include <toml++/toml.h>
+
+#include "engine/job/job_error.hpp"
+
+namespace ggk::engine {
+
+namespace {
+
+constexpr std::size_t kShownValue = 60;  // characters of a value shown in a message
+
+std::string shown(const toml::node& node) {
+  std::ostringstream out;
+  if (node.is_table()) {
+    out << "a table";
+  } else if (const auto* array = node.as_array()) {
+    out << *array;
+  } else {
+    node.visit([&out](const auto& value) { out << value; });
+  }
+  std::string text = out.str();
+  if (text.size() > kShownValue) text = text.substr(0, kShownValue) + "...";
+  return text;
+}
+
+std::string joined(const std::string& prefix, std::string_view key) {
+  return prefix.empty() ? std::string(key) : prefix + "." + std::string(key);
+}
+
+std::optional<std::string> table_difference(const toml::table& recorded, const toml::table& current,
+                                            const std::string& prefix) {
+  for (const auto& [key, value] : recorded) {
+    const std::string path = joined(prefix, key.str());
+    const toml::node* other = current.get(key.str());
+    if (other == nullptr) return display_key(path) + ": only in the results file's job";
+    const auto* table = value.as_table();
+    const auto* other_table = other->as_table();
+    if (table != nullptr && other_table != nullptr) {
+      if (auto difference = table_difference(*table, *other_table, path)) return difference;
+    } else if (toml::node_view<const toml::node>(&value) !=
+               toml::node_view<const toml::node>(other)) {
+      return display_key(path) + ": " + shown(value) + " in the results file, " + shown(*other) +
+             " in the job file";
+    }
+  }
+  for (const auto& [key, value] : current) {
+    if (recorded.get(key.str()) == nullptr) {
+      return display_key(joined(prefix, key.str())) + ": only in the job file";
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<std::string> job_difference(std::string_view recorded, std::string_view current) {
+  toml::table recorded_table, current_table;
+  try {
+    recorded_table = toml::parse(recorded);
+    current_table = toml::parse(current);
+  } catch (const toml::parse_error&) {
+    if (recorded == current) return std::nullopt;
+    return std::string("the job texts differ (one does not parse as TOML)");
+  }
+  return table_difference(recorded_table, current_table, "");
+}
+
+}  // namespace ggk::engine

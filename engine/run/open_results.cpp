@@ -1,0 +1,265 @@
+#include "engine/run/open_results.hpp"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <ctime>
+#include <stdexcept>
+#include <system_error>
+#include <utility>
+
+#include "engine/job/job_compare.hpp"
+#include "engine/job/job_input.hpp"
+#include "engine/job/usage_error.hpp"
+#include "engine/run/job_runner.hpp"
+#include "engine/store/results_verify.hpp"
+#include "engine/store/run_store.hpp"
+#include "kernels/blas_runtime.hpp"
+
+#ifndef GGK_VERSION
+#define GGK_VERSION "unknown"
+#endif
+#ifndef GGK_GIT_DESCRIBE
+#define GGK_GIT_DESCRIBE "unknown"
+#endif
+
+namespace ggk::engine {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return buffer;
+}
+
+void check_output_directory(const fs::path& output) {
+  const fs::path dir = output.parent_path().empty() ? fs::path(".") : output.parent_path();
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    throw UsageError("output " + output.string() + ": directory " + dir.string() +
+                     " does not exist");
+  }
+  if (access(dir.c_str(), W_OK) != 0) {
+    throw UsageError("output " + output.string() + ": directory " + dir.string() +
+                     " is not writable");
+  }
+}
+
+// What is at the output path now: nothing, an empty file, or a file with bytes;
+// anything but a regular file (a directory, /dev/null, a FIFO) is a UsageError.
+enum class OutputState { kAbsent, kEmpty, kFile };
+
+OutputState output_state(const fs::path& output) {
+  struct stat status {};
+  if (::stat(output.c_str(), &status) != 0) {
+    if (errno == ENOENT) return OutputState::kAbsent;
+    throw UsageError("output " + output.string() + ": " + std::strerror(errno));
+  }
+  if (S_ISDIR(status.st_mode)) throw UsageError("output " + output.string() + " is a directory");
+  if (!S_ISREG(status.st_mode)) {
+    throw UsageError("output " + output.string() +
+                     " is not a regular file (a device, FIFO or socket): results go to a file");
+  }
+  return status.st_size == 0 ? OutputState::kEmpty : OutputState::kFile;
+}
+
+// The results file cannot be opened or created for reasons of the user's making
+// (not an HDF5 file, no permission): a UsageError, reported like a bad -o.
+template <class Open>
+Hdf5File open_as_user(Open&& open) {
+  try {
+    return open();
+  } catch (const UsageError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw UsageError(e.what());
+  }
+}
+
+// Records which runs a shard file is for (root attribute runs_selected = [A, B]);
+// a whole job's file has none. Rewritten on every open: a resumed file is for the
+// selection it was last run with.
+void mark_selection(Hdf5File& file, const JobSpec& job, const std::optional<RunRange>& runs) {
+  if (file.has_attribute("/", "runs_selected")) file.remove_attribute("/", "runs_selected");
+  if (runs && !(runs->first == 0 && runs->last == job.runs)) {
+    const std::int64_t range[2] = {runs->first, runs->last};
+    file.write_int64_array_attribute("/", "runs_selected", range);
+  }
+}
+
+std::string string_attribute_or_throw(const Hdf5File& file, const fs::path& output,
+                                      const std::string& name) {
+  if (!file.has_attribute("/", name)) {
+    throw UsageError("cannot resume " + output.string() + ": it has no '" + name +
+                     "' attribute, so it is not a ggk results file of a job; choose another "
+                     "output with -o, or --overwrite to replace it");
+  }
+  try {
+    return file.read_string_attribute("/", name);
+  } catch (const std::runtime_error& e) {
+    throw UsageError("cannot resume " + output.string() + ": its '" + name +
+                     "' attribute is not a string, so it is not a ggk results file: " + e.what());
+  }
+}
+
+// The file is the same job's (parsed job, input files), or a UsageError says
+// what differs.
+void check_same_job(const Hdf5File& file, const JobSpec& job, const fs::path& output) {
+  const std::string recorded = string_attribute_or_throw(file, output, "job");
+  if (const auto difference = job_difference(recorded, job.source_text)) {
+    throw UsageError("cannot resume " + output.string() + ": it holds the results of a different " +
+                     "job (" + *difference + "; job file " + job.source_file.string() +
+                     "); choose another output with -o, or --overwrite to replace it");
+  }
+  for (const JobInput& input : job.inputs) {
+    const std::string attribute = input_attribute_name(input);
+    if (!file.has_attribute("/", attribute) ||
+        string_attribute_or_throw(file, output, attribute) != input.text) {
+      throw UsageError("cannot resume " + output.string() + ": " + input.path + " (" + input.key +
+                       ") is not the file these results were computed from (it changed, "
+                       "or the file predates ggk recording its inputs); restore it, or "
+                       "start over with --overwrite or another -o");
+    }
+  }
+}
+
+Hdf5File resume(const JobSpec& job, const RunOptions& options, const fs::path& output,
+                std::vector<std::int32_t>& complete, std::vector<std::string>& notes) {
+  Hdf5File file = open_as_user([&] { return Hdf5File::open_read_write(output); });
+  check_same_job(file, job, output);
+  complete = prepare_for_resume(file, job);
+  // A run marked complete is kept only if every dataset in it reads back with a
+  // good checksum; a damaged one is dropped and computed again.
+  std::erase_if(complete, [&](std::int32_t run) {
+    const std::optional<std::string> damage = verify_run(file, job.task, run);
+    if (!damage) return false;
+    notes.push_back("run " + std::to_string(run) + " of " + output.string() + " is damaged (" +
+                    *damage + "): computing it again");
+    discard_run(file, job.task, run);
+    return true;
+  });
+  mark_selection(file, job, options.runs);
+  file.flush();
+  return file;
+}
+
+Hdf5File create_new(const JobSpec& job, const RunOptions& options, const fs::path& path) {
+  Hdf5File file =
+      open_as_user([&] { return Hdf5File::create(path, Hdf5File::CreateMode::kFailIfExists); });
+  file.write_string_attribute("/", "job", job.source_text);
+  file.write_string_attribute("/", "job_file", job.source_file.string());
+  for (const JobInput& input : job.inputs) {
+    file.write_string_attribute("/", input_attribute_name(input), input.text);
+  }
+  file.write_string_attribute("/", "ggk_version", GGK_VERSION);
+  file.write_string_attribute("/", "git", GGK_GIT_DESCRIBE);
+  file.write_string_attribute("/", "blas", kernels::blas_info().name);
+  file.write_string_attribute("/", "created", utc_now());
+  file.write_string_attribute("/", "task", job.task);
+  file.write_int64_attribute("/", "runs", job.runs);
+  file.create_group("/" + job.task);
+  mark_selection(file, job, options.runs);
+  file.flush();
+  return file;
+}
+
+}  // namespace
+
+fs::path temporary_results_path(const fs::path& output) {
+  return fs::path(output.string() + ".part");
+}
+
+ResultsTarget::ResultsTarget(fs::path output, fs::path temporary, OutputLock lock)
+    : output_(std::move(output)), temporary_(std::move(temporary)), lock_(std::move(lock)) {}
+
+ResultsTarget::ResultsTarget(ResultsTarget&& other) noexcept
+    : output_(std::move(other.output_)),
+      temporary_(std::exchange(other.temporary_, {})),
+      lock_(std::move(other.lock_)) {}
+
+ResultsTarget::~ResultsTarget() {
+  if (!temporary_.empty()) ::unlink(temporary_.c_str());
+}
+
+const fs::path& ResultsTarget::writing_to() const {
+  return temporary_.empty() ? output_ : temporary_;
+}
+
+void ResultsTarget::publish(Hdf5File& file) {
+  if (temporary_.empty()) return;
+  if (::rename(temporary_.c_str(), output_.c_str()) != 0) {
+    throw std::runtime_error("cannot rename " + temporary_.string() + " to " + output_.string() +
+                             ": " + std::strerror(errno));
+  }
+  temporary_.clear();
+  file.renamed_to(output_);
+}
+
+OpenedResults open_results(const JobSpec& job, const RunOptions& options) {
+  const fs::path output = options.output.empty() ? job.output.file : options.output;
+  if (options.runs && (options.runs->first < 0 || options.runs->first >= options.runs->last ||
+                       options.runs->last > job.runs)) {
+    throw UsageError("--runs " + std::to_string(options.runs->first) + ":" +
+                     std::to_string(options.runs->last) + " is not a range of runs of job '" +
+                     job.name + "', which has runs 0.." + std::to_string(job.runs - 1) +
+                     " (A:B computes runs A..B-1, 0 <= A < B <= " + std::to_string(job.runs) + ")");
+  }
+  check_output_directory(output);
+  OutputState state = output_state(output);  // refuse a device or FIFO before locking
+  if (state == OutputState::kFile && !options.resume && !options.overwrite) {
+    throw UsageError("output " + output.string() +
+                     " exists: pass --resume to continue it or --overwrite to replace it");
+  }
+  OutputLock lock = OutputLock::acquire(output);
+  // Under the lock: what a dead ggk left is ours to clear, and the output is
+  // looked at again (it may have appeared while we waited for nothing).
+  const fs::path temporary = temporary_results_path(output);
+  if (::unlink(temporary.c_str()) != 0 && errno != ENOENT) {
+    throw UsageError("output " + output.string() + ": cannot remove the leftover " +
+                     temporary.string() + ": " + std::strerror(errno));
+  }
+  state = output_state(output);
+
+  std::vector<std::int32_t> complete;
+  std::vector<std::string> notes;
+  std::optional<ResultsTarget> target;
+  std::optional<Hdf5File> file;
+  if (state == OutputState::kFile && options.resume) {
+    target.emplace(output, fs::path(), std::move(lock));
+    file.emplace(resume(job, options, output, complete, notes));
+  } else {
+    if (state == OutputState::kFile && !options.overwrite) {
+      throw UsageError("output " + output.string() +
+                       " exists: pass --resume to continue it or --overwrite to replace it");
+    }
+    if (state == OutputState::kEmpty && options.resume) {
+      notes.push_back(output.string() +
+                      " is empty (a ggk killed while creating it): starting it afresh");
+    }
+    target.emplace(output, temporary, std::move(lock));  // removes the .part on failure
+    file.emplace(create_new(job, options, temporary));
+  }
+  OpenedResults opened{std::move(*target), std::move(*file), {}, 0, std::move(notes)};
+  opened.file.set_gzip_level(job.output.compression);
+  const std::int32_t first = options.runs ? options.runs->first : 0;
+  const std::int32_t last = options.runs ? options.runs->last : job.runs;
+  for (std::int32_t run = first; run < last; ++run) {
+    if (std::binary_search(complete.begin(), complete.end(), run)) {
+      ++opened.skipped;
+    } else {
+      opened.pending.push_back(run);
+    }
+  }
+  return opened;
+}
+
+}  // namespace ggk::engine

@@ -1,0 +1,82 @@
+#pragma once
+// Opening a job's results file for writing, with every rule of `ggk run` about
+// it (a single process and rank 0 of an MPI job alike):
+//  - the output is locked first (store/output_lock.hpp: "<output>.lock"), so a
+//    second ggk on the same output is refused before anything is touched, with
+//    or without HDF5's own file locking;
+//  - a new file, or the replacement of an existing one (--overwrite), is written
+//    under "<output>.part" (exclusive create) and takes the output's name by an
+//    atomic rename when its first run is written and flushed: until then the
+//    old results stay as they were, and a kill, Ctrl-C, full disk or error
+//    leaves them untouched (the .part file of a dead ggk is removed by the next
+//    ggk on that output). A kill can no longer leave an empty results file;
+//    `--resume` on an empty one (from older versions) starts it afresh;
+//  - --resume continues a results file of the same job: the jobs are compared
+//    as parsed TOML (a comment edit does not matter; a changed key is named),
+//    the input files by content; the runs marked complete are read in full
+//    (every dataset's checksum, verify_run) and a damaged one is computed
+//    again; whatever a killed writer left is discarded;
+//  - an output that exists without --resume or --overwrite, is not a regular
+//    file, or is another job's, is a UsageError (exit status 2) and is left as
+//    it was.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/job/job_spec.hpp"
+#include "engine/store/hdf5_file.hpp"
+#include "engine/store/output_lock.hpp"
+
+namespace ggk::engine {
+
+struct RunOptions;
+
+// Where a job's results go, and the lock on it, for as long as the job writes.
+class ResultsTarget {
+ public:
+  ResultsTarget() = default;
+  ResultsTarget(std::filesystem::path output, std::filesystem::path temporary, OutputLock lock);
+  ResultsTarget(ResultsTarget&& other) noexcept;
+  ResultsTarget& operator=(ResultsTarget&&) = delete;
+  ResultsTarget(const ResultsTarget&) = delete;
+  ResultsTarget& operator=(const ResultsTarget&) = delete;
+  // Removes a temporary file that never took the output's name; releases the lock.
+  ~ResultsTarget();
+
+  const std::filesystem::path& output() const { return output_; }
+  // The file being written: output(), or "<output>.part" until publish().
+  const std::filesystem::path& writing_to() const;
+  // "<output>.part" until publish(); empty when resuming or published.
+  const std::filesystem::path& temporary() const { return temporary_; }
+  std::filesystem::path lock_file() const { return OutputLock::path_for(output_); }
+  // For a process about to exit at once (_Exit): removes the lock file now.
+  void release_lock() { lock_.release(); }
+
+  // Gives a file written under the temporary name the output's name (rename);
+  // nothing when it has it already. Call after a run is written and flushed, on
+  // the thread that writes `file` (whose path it updates).
+  void publish(Hdf5File& file);
+
+ private:
+  std::filesystem::path output_;
+  std::filesystem::path temporary_;  // empty once published, or when resuming
+  OutputLock lock_;
+};
+
+struct OpenedResults {
+  ResultsTarget target;  // declared first: outlives the file
+  Hdf5File file;
+  std::vector<std::int32_t> pending;  // runs still to compute, ascending
+  std::int32_t skipped = 0;           // runs of the selection already complete
+  std::vector<std::string> notes;     // what the caller should tell the user
+};
+
+OpenedResults open_results(const JobSpec& job, const RunOptions& options);
+
+// "<output>.part": where a new results file is written until its first run lands.
+std::filesystem::path temporary_results_path(const std::filesystem::path& output);
+
+}  // namespace ggk::engine

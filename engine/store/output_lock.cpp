@@ -1,0 +1,208 @@
+#include "engine/store/output_lock.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <sstream>
+#include <utility>
+
+#include "engine/job/usage_error.hpp"
+
+namespace ggk::engine {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kAttempts = 8;
+
+std::string host_name() {
+  char buffer[256] = {};
+  if (::gethostname(buffer, sizeof buffer - 1) != 0) return "unknown-host";
+  return buffer;
+}
+
+// The start time of process `pid` in clock ticks since boot (field 22 of
+// /proc/<pid>/stat): with the pid, it names one process even when pids are
+// reused. Empty when unknown.
+std::string process_start(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  const std::string text{std::istreambuf_iterator<char>(stat), std::istreambuf_iterator<char>()};
+  const std::size_t name_end = text.rfind(')');  // the command name may hold spaces
+  if (name_end == std::string::npos) return {};
+  std::istringstream fields(text.substr(name_end + 1));
+  std::string field;
+  for (int index = 3; index <= 22 && fields >> field; ++index) {
+    if (index == 22) return field;
+  }
+  return {};
+}
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return buffer;
+}
+
+std::optional<std::string> read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  return std::string{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+struct Holder {
+  std::string host;
+  pid_t pid = 0;
+  std::string process_start;
+  std::string since;
+};
+
+Holder parse_holder(const std::string& text) {
+  Holder holder;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    const std::size_t eq = line.find('=');
+    if (eq == std::string::npos) continue;
+    const std::string key = line.substr(0, eq), value = line.substr(eq + 1);
+    if (key == "host") holder.host = value;
+    if (key == "process_start") holder.process_start = value;
+    if (key == "since") holder.since = value;
+    if (key == "pid") holder.pid = static_cast<pid_t>(std::atol(value.c_str()));
+  }
+  return holder;
+}
+
+// True when the holder is known to be gone: it ran on this host and no process
+// with its pid (and start time) exists any more.
+bool holder_is_gone(const Holder& holder) {
+  if (holder.pid <= 0 || holder.host != host_name()) return false;
+  if (::kill(holder.pid, 0) != 0 && errno == ESRCH) return true;
+  const std::string start = process_start(holder.pid);
+  return !holder.process_start.empty() && !start.empty() && start != holder.process_start;
+}
+
+std::string holder_message(const fs::path& results, const fs::path& lock, const Holder& holder) {
+  if (holder.pid <= 0) {
+    return "output " + results.string() + " is locked by " + lock.string() +
+           ", which is not a ggk lock or was left half written; if no ggk is writing " +
+           results.string() + ", remove " + lock.string();
+  }
+  return "output " + results.string() + " is being written by another ggk (pid " +
+         std::to_string(holder.pid) + " on host " + holder.host + ", since " + holder.since +
+         "; lock file " + lock.string() + "): wait for it to finish, or, if no ggk runs there " +
+         "any more, remove " + lock.string();
+}
+
+// Writes `text` to a new file at `path` (exclusive create), synced.
+bool write_new_file(const fs::path& path, const std::string& text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) return false;
+  const bool ok = ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size()) &&
+                  ::fsync(fd) == 0;
+  const int saved = errno;
+  ::close(fd);
+  if (!ok) {
+    ::unlink(path.c_str());
+    errno = saved;
+  }
+  return ok;
+}
+
+[[noreturn]] void throw_cannot_lock(const fs::path& results, const fs::path& lock,
+                                    const std::string& why) {
+  throw UsageError("output " + results.string() + ": cannot create its lock file " + lock.string() +
+                   ": " + why);
+}
+
+// Places `text` at `lock` only if no lock file exists there: true on success,
+// false when one exists (EEXIST); throws on any other failure.
+bool create_lock(const fs::path& results, const fs::path& lock, const fs::path& scratch,
+                 const std::string& text) {
+  if (::link(scratch.c_str(), lock.c_str()) == 0) return true;
+  if (errno == EEXIST) return false;
+  if (errno == EPERM || errno == ENOSYS || errno == EOPNOTSUPP) {
+    // A file system without hard links: an exclusive create is the next best.
+    if (write_new_file(lock, text)) return true;
+    if (errno == EEXIST) return false;
+  }
+  throw_cannot_lock(results, lock, std::strerror(errno));
+}
+
+}  // namespace
+
+fs::path OutputLock::path_for(const fs::path& results) {
+  return fs::path(results.string() + ".lock");
+}
+
+OutputLock OutputLock::acquire(const fs::path& results) {
+  const fs::path lock = path_for(results);
+  const pid_t pid = ::getpid();
+  const std::string host = host_name();
+  const std::string text = "ggk output lock\nhost=" + host + "\npid=" + std::to_string(pid) +
+                           "\nprocess_start=" + process_start(pid) + "\nsince=" + utc_now() + "\n";
+  const fs::path scratch = lock.string() + "." + host + "." + std::to_string(pid);
+  ::unlink(scratch.c_str());  // a leftover of this very pid's predecessor
+  if (!write_new_file(scratch, text)) throw_cannot_lock(results, lock, std::strerror(errno));
+  struct RemoveScratch {
+    const fs::path& path;
+    ~RemoveScratch() { ::unlink(path.c_str()); }
+  } remove_scratch{scratch};
+
+  for (int attempt = 0; attempt < kAttempts; ++attempt) {
+    if (create_lock(results, lock, scratch, text)) return OutputLock(lock, text);
+    const std::optional<std::string> existing = read_text(lock);
+    if (!existing) continue;  // released meanwhile: try again
+    const Holder holder = parse_holder(*existing);
+    if (!holder_is_gone(holder)) throw UsageError(holder_message(results, lock, holder));
+    // A stale lock: move it aside, then check that what moved is the lock judged
+    // stale (another ggk may have taken it over in between: put that one back).
+    const fs::path aside = lock.string() + ".stale." + host + "." + std::to_string(pid);
+    if (::rename(lock.c_str(), aside.c_str()) != 0) continue;
+    if (read_text(aside) != existing) (void)::link(aside.c_str(), lock.c_str());
+    ::unlink(aside.c_str());
+  }
+  throw UsageError("output " + results.string() + ": could not take its lock " + lock.string() +
+                   " in " + std::to_string(kAttempts) +
+                   " attempts (other ggk processes keep taking it)");
+}
+
+OutputLock::OutputLock(OutputLock&& other) noexcept
+    : path_(std::exchange(other.path_, {})), text_(std::exchange(other.text_, {})) {}
+
+OutputLock& OutputLock::operator=(OutputLock&& other) noexcept {
+  if (this != &other) {
+    release();
+    path_ = std::exchange(other.path_, {});
+    text_ = std::exchange(other.text_, {});
+  }
+  return *this;
+}
+
+OutputLock::~OutputLock() {
+  release();
+}
+
+void OutputLock::release() noexcept {
+  if (path_.empty()) return;
+  try {
+    if (read_text(path_) == text_) ::unlink(path_.c_str());
+  } catch (...) {  // never throw from a release (bad_alloc reading the file)
+  }
+  path_.clear();
+  text_.clear();
+}
+
+}  // namespace ggk::engine

@@ -1,0 +1,113 @@
+#include "engine/store/results_verify.hpp"
+
+#include <functional>
+#include <stdexcept>
+#include <vector>
+
+#include "engine/job/usage_error.hpp"
+#include "engine/store/run_store.hpp"
+
+namespace ggk::engine {
+
+namespace {
+
+constexpr std::size_t kShownProblems = 20;
+constexpr std::size_t kReasonLength = 300;
+
+std::string one_line(std::string text) {
+  for (char& c : text) {
+    if (c == '\n') c = ' ';
+  }
+  if (text.size() > kReasonLength) text = text.substr(0, kReasonLength) + "...";
+  return text;
+}
+
+std::string child(const std::string& group, const std::string& name) {
+  return group == "/" ? "/" + name : group + "/" + name;
+}
+
+struct Walk {
+  const Hdf5File& file;
+  std::int64_t datasets = 0;
+  std::int64_t attributes = 0;
+  std::vector<std::string> problems;
+  std::function<bool(const std::string&)> skip = [](const std::string&) { return false; };
+
+  // Reads `path` and everything below it; records what fails and goes on.
+  void visit(const std::string& path) {
+    if (skip(path)) return;
+    try {
+      for (const std::string& name : file.attribute_names(path)) {
+        (void)file.read_attribute_values(path, name);
+        ++attributes;
+      }
+      switch (file.object_kind(path)) {
+        case Hdf5File::ObjectKind::kDataset:
+          (void)file.read_values(path);
+          ++datasets;
+          return;
+        case Hdf5File::ObjectKind::kGroup:
+          for (const std::string& name : file.member_names(path)) visit(child(path, name));
+          return;
+        case Hdf5File::ObjectKind::kOther:
+          return;
+      }
+    } catch (const std::runtime_error& e) {
+      problems.push_back(path + ": " + one_line(e.what()));
+    }
+  }
+};
+
+}  // namespace
+
+std::optional<std::string> verify_run(const Hdf5File& file, const std::string& task,
+                                      std::int32_t run) {
+  Walk walk{file, 0, 0, {}};
+  walk.visit(run_group(task, run));
+  if (walk.problems.empty()) return std::nullopt;
+  return walk.problems.front();
+}
+
+bool verify_results(const std::filesystem::path& path, std::ostream& out) {
+  std::optional<Hdf5File> opened;
+  try {
+    opened.emplace(Hdf5File::open_read_only(path));
+  } catch (const std::exception& e) {
+    throw UsageError(std::string(e.what()) +
+                     " (if it is a results file, its first bytes are damaged)");
+  }
+  const Hdf5File& file = *opened;
+  Walk walk{file, 0, 0, {}};
+  walk.skip = [](const std::string& object) { return object == kStagingRoot; };
+  walk.visit("/");
+  std::string task;
+  std::int64_t runs = -1, complete = 0;
+  try {
+    task = file.read_string_attribute("/", "task");
+    runs = file.read_int64_attribute("/", "runs");
+    for (std::int32_t run = 0; run < runs; ++run) complete += run_is_complete(file, task, run);
+  } catch (const std::runtime_error& e) {
+    if (walk.problems.empty()) {
+      throw UsageError(path.string() + " is not a ggk results file (" + one_line(e.what()) + ")");
+    }
+  }
+  out << path.string() << ": read " << walk.datasets << " datasets and " << walk.attributes
+      << " attributes";
+  if (runs >= 0) out << "; runs: " << complete << " of " << runs << " complete";
+  out << "\n";
+  if (walk.problems.empty()) {
+    out << "ok: every checksum matches, every object reads\n";
+    return true;
+  }
+  out << "DAMAGED: " << walk.problems.size() << " objects do not read:\n";
+  for (std::size_t i = 0; i < walk.problems.size() && i < kShownProblems; ++i) {
+    out << "  " << walk.problems[i] << "\n";
+  }
+  if (walk.problems.size() > kShownProblems) {
+    out << "  ... and " << walk.problems.size() - kShownProblems << " more\n";
+  }
+  out << "a damaged run is computed again by `ggk run JOB --resume -o " << path.string() << "`\n";
+  return false;
+}
+
+}  // namespace ggk::engine

@@ -1,0 +1,34 @@
+#pragma once
+// Is a results file whole? Reads every dataset and attribute back, which checks
+// every checksum HDF5 keeps (Fletcher32 per chunk of every dataset; the object
+// headers, B-trees and heaps of the 1.10 formats): damage to the bytes of a file
+// (a bad disk, a stray write, a copy cut short) becomes an error naming what is
+// damaged, never wrong numbers read in silence.
+//
+// `ggk verify FILE` (verify_results), and `ggk run --resume`, which checks each
+// run it keeps (verify_run) and computes a damaged one again. Files written
+// before ggk added checksums are read the same way, but only damage that makes
+// HDF5 fail is found in them.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include "engine/store/hdf5_file.hpp"
+
+namespace ggk::engine {
+
+// Empty when every dataset and attribute of the run's group reads back; else
+// what failed first (path and HDF5's reason, cut to a line).
+std::optional<std::string> verify_run(const Hdf5File& file, const std::string& task,
+                                      std::int32_t run);
+
+// Reads the whole file (the writer's /.staging scratch aside) and prints the
+// verdict to `out`: counts of datasets and attributes read, runs complete, and
+// each damaged object. Returns true when nothing is damaged. Throws UsageError
+// when the file does not exist, is not HDF5 or is no ggk results file.
+bool verify_results(const std::filesystem::path& path, std::ostream& out);
+
+}  // namespace ggk::engine
