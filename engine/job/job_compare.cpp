@@ -30,25 +30,31 @@ std::string joined(const std::string& prefix, std::string_view key) {
   return prefix.empty() ? std::string(key) : prefix + "." + std::string(key);
 }
 
+struct Labels {
+  std::string_view recorded, current;
+};
+
 std::optional<std::string> table_difference(const toml::table& recorded, const toml::table& current,
-                                            const std::string& prefix) {
+                                            const std::string& prefix, const Labels& labels) {
   for (const auto& [key, value] : recorded) {
     const std::string path = joined(prefix, key.str());
     const toml::node* other = current.get(key.str());
-    if (other == nullptr) return display_key(path) + ": only in the results file's job";
+    if (other == nullptr) return display_key(path) + ": only in " + std::string(labels.recorded);
     const auto* table = value.as_table();
     const auto* other_table = other->as_table();
     if (table != nullptr && other_table != nullptr) {
-      if (auto difference = table_difference(*table, *other_table, path)) return difference;
+      if (auto difference = table_difference(*table, *other_table, path, labels)) {
+        return difference;
+      }
     } else if (toml::node_view<const toml::node>(&value) !=
                toml::node_view<const toml::node>(other)) {
-      return display_key(path) + ": " + shown(value) + " in the results file, " + shown(*other) +
-             " in the job file";
+      return display_key(path) + ": " + shown(value) + " in " + std::string(labels.recorded) +
+             ", " + shown(*other) + " in " + std::string(labels.current);
     }
   }
   for (const auto& [key, value] : current) {
     if (recorded.get(key.str()) == nullptr) {
-      return display_key(joined(prefix, key.str())) + ": only in the job file";
+      return display_key(joined(prefix, key.str())) + ": only in " + std::string(labels.current);
     }
   }
   return std::nullopt;
@@ -56,7 +62,9 @@ std::optional<std::string> table_difference(const toml::table& recorded, const t
 
 }  // namespace
 
-std::optional<std::string> job_difference(std::string_view recorded, std::string_view current) {
+std::optional<std::string> job_difference(std::string_view recorded, std::string_view current,
+                                          std::string_view recorded_label,
+                                          std::string_view current_label) {
   toml::table recorded_table, current_table;
   try {
     recorded_table = toml::parse(recorded);
@@ -65,7 +73,7 @@ std::optional<std::string> job_difference(std::string_view recorded, std::string
     if (recorded == current) return std::nullopt;
     return std::string("the job texts differ (one does not parse as TOML)");
   }
-  return table_difference(recorded_table, current_table, "");
+  return table_difference(recorded_table, current_table, "", {recorded_label, current_label});
 }
 
 }  // namespace ggk::engine

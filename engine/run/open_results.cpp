@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <stdexcept>
@@ -132,9 +133,42 @@ void check_same_job(const Hdf5File& file, const JobSpec& job, const fs::path& ou
   }
 }
 
+// HDF5's flush writes the superblock, with the file's new end, before it
+// extends the file; when the extension fails (a full disk) the file is left
+// shorter than its superblock says and no longer opens ("truncated file: ...
+// stored_eof = N"). Everything a successful flush wrote is still there: the
+// missing tail is space of the write that failed. Extending the file to N
+// (zeros) lets it open; the failed write's leftovers are in the staging group,
+// which resume discards, and every kept run is read back (verify_run).
+bool extend_truncated(const fs::path& output, const std::string& error,
+                      std::vector<std::string>& notes) {
+  const std::string marker = "stored_eof = ";
+  const std::size_t at = error.find(marker);
+  if (error.find("truncated file") == std::string::npos || at == std::string::npos) return false;
+  const unsigned long long stored_end =
+      std::strtoull(error.c_str() + at + marker.size(), nullptr, 10);
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(output, ec);
+  if (ec || stored_end <= size) return false;
+  if (::truncate(output.c_str(), static_cast<off_t>(stored_end)) != 0) return false;
+  notes.push_back(output.string() + " was cut short by a write that failed (a full disk?): " +
+                  "extended from " + std::to_string(size) + " to " + std::to_string(stored_end) +
+                  " bytes to open it; its complete runs are checked");
+  return true;
+}
+
+Hdf5File open_for_resume(const fs::path& output, std::vector<std::string>& notes) {
+  try {
+    return Hdf5File::open_read_write(output);
+  } catch (const std::runtime_error& e) {
+    if (!extend_truncated(output, e.what(), notes)) throw UsageError(e.what());
+  }
+  return open_as_user([&] { return Hdf5File::open_read_write(output); });
+}
+
 Hdf5File resume(const JobSpec& job, const RunOptions& options, const fs::path& output,
                 std::vector<std::int32_t>& complete, std::vector<std::string>& notes) {
-  Hdf5File file = open_as_user([&] { return Hdf5File::open_read_write(output); });
+  Hdf5File file = open_for_resume(output, notes);
   check_same_job(file, job, output);
   complete = prepare_for_resume(file, job);
   // A run marked complete is kept only if every dataset in it reads back with a

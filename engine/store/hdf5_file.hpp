@@ -127,6 +127,8 @@ class Hdf5File {
   static Hdf5File create_in_memory(const std::string& name);
   std::vector<unsigned char> file_image();  // flushes first
   static Hdf5File open_image(std::span<const unsigned char> image, const std::string& name);
+  // True for a file made by create_in_memory() or open_image().
+  bool in_memory() const;
 
   Hdf5File(Hdf5File&& other) noexcept;
   Hdf5File& operator=(Hdf5File&& other) noexcept;
@@ -136,6 +138,12 @@ class Hdf5File {
   // Closes the file now (writing what is buffered); throws when HDF5 cannot.
   // The object is then closed whatever happened; a second close() does nothing.
   void close();
+  // For a file whose write failed (a full disk): lets go of it without closing.
+  // Closing would write HDF5's cached metadata, which may describe data that
+  // never reached the disk, and leave a file that no longer opens; abandoned,
+  // the file stays as its last successful flush() left it, as after a kill
+  // (which --resume handles). The handle stays open until the process exits.
+  void abandon() noexcept { id_ = -1; }
   // The file was renamed on disk while open (the handle follows the file): name
   // it so in messages from now on.
   void renamed_to(const std::filesystem::path& path);

@@ -37,6 +37,14 @@ Hdf5File Hdf5File::create_in_memory(const std::string& name) {
   return Hdf5File(name, id, false);
 }
 
+bool Hdf5File::in_memory() const {
+  disable_automatic_error_printing();
+  const Context where{id_, path_};
+  const Handle access =
+      checked(H5Fget_access_plist(id_), H5Pclose, where, "get the access of", "/");
+  return H5Pget_driver(access.get()) == H5FD_CORE;
+}
+
 std::vector<unsigned char> Hdf5File::file_image() {
   flush();
   const Context where{id_, path_};

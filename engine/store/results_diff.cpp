@@ -10,6 +10,7 @@
 
 #include "engine/job/usage_error.hpp"
 #include "engine/store/hdf5_file.hpp"
+#include "engine/store/run_store.hpp"
 
 namespace ggk::engine {
 
@@ -68,8 +69,8 @@ class Comparison {
     if (kind_a != Hdf5File::ObjectKind::kGroup) return;
     std::vector<std::string> names_a = a_.member_names(path), names_b = b_.member_names(path);
     if (path == "/") {
-      std::erase(names_a, ".staging");
-      std::erase(names_b, ".staging");
+      std::erase_if(names_a, is_scratch);
+      std::erase_if(names_b, is_scratch);
     }
     for_each_union(names_a, names_b, [&](const std::string& name, bool in_a, bool in_b) {
       const std::string member = child(path, name);

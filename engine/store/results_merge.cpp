@@ -8,8 +8,10 @@
 #include <system_error>
 #include <vector>
 
+#include "engine/job/job_compare.hpp"
 #include "engine/job/usage_error.hpp"
 #include "engine/store/hdf5_file.hpp"
+#include "engine/store/output_lock.hpp"
 #include "engine/store/run_store.hpp"
 
 namespace ggk::engine {
@@ -38,11 +40,12 @@ Hdf5File open_shard(const std::filesystem::path& path) {
   }
 }
 
-// The root attributes that say which job a file holds: its text and its inputs.
+// The root attributes that say which job a file holds besides the job text
+// itself (compared as parsed TOML): the task and the inputs' texts.
 std::map<std::string, std::string> job_identity(const Hdf5File& file) {
   std::map<std::string, std::string> identity;
   for (const std::string& name : file.attribute_names("/")) {
-    if (name == "job" || name == "task" || name.rfind("input:", 0) == 0) {
+    if (name == "task" || name.rfind("input:", 0) == 0) {
       identity[name] = file.read_string_attribute("/", name);
     }
   }
@@ -69,6 +72,7 @@ void merge_results(const std::filesystem::path& output,
                    std::span<const std::filesystem::path> shard_paths, const MergeOptions& options,
                    std::ostream& log) {
   std::error_code error;
+  const OutputLock lock = OutputLock::acquire(output);  // one writer per output
   if (std::filesystem::exists(output, error)) {
     throw UsageError("merge output " + output.string() +
                      " exists; ggk merge writes a new file (remove it, or choose another name)");
@@ -86,11 +90,16 @@ void merge_results(const std::filesystem::path& output,
   const std::string task = first.read_string_attribute("/", "task");
   const auto runs = static_cast<std::int32_t>(first.read_int64_attribute("/", "runs"));
   const auto identity = job_identity(first);
+  const std::string job_text = first.read_string_attribute("/", "job");
   for (const Shard& shard : shards) {
-    if (job_identity(shard.file) != identity) {
+    std::optional<std::string> difference =
+        job_difference(job_text, shard.file.read_string_attribute("/", "job"),
+                       shards.front().path.string(), shard.path.string());
+    if (!difference && job_identity(shard.file) != identity) difference = "its input files differ";
+    if (difference) {
       throw UsageError(shard.path.string() + " holds another job than " +
-                       shards.front().path.string() +
-                       " (its job text or input files differ): only shards of one job merge");
+                       shards.front().path.string() + " (" + *difference +
+                       "): only shards of one job merge");
     }
   }
 

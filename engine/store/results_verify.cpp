@@ -78,7 +78,10 @@ bool verify_results(const std::filesystem::path& path, std::ostream& out) {
   }
   const Hdf5File& file = *opened;
   Walk walk{file, 0, 0, {}};
-  walk.skip = [](const std::string& object) { return object == kStagingRoot; };
+  walk.skip = [](const std::string& object) {
+    return object.size() > 1 && object.find('/', 1) == std::string::npos &&
+           is_scratch(std::string_view(object).substr(1));
+  };
   walk.visit("/");
   std::string task;
   std::int64_t runs = -1, complete = 0;

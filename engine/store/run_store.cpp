@@ -1,9 +1,12 @@
 #include "engine/store/run_store.hpp"
 
+#include <cstdint>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+
+#include "engine/store/disk_room.hpp"
 
 namespace ggk::engine {
 
@@ -110,28 +113,77 @@ std::vector<std::string> metric_names_of(const RunRecord& record) {
   return names;
 }
 
-// Drops an earlier, incomplete copy of a run and whatever a killed writer left
-// at its staging path (which may be damaged, so it is detached, not read).
-void clear_run_slots(Hdf5File& file, const std::string& group, const std::string& staging) {
-  if (file.exists(group)) file.remove(group);
-  if (file.exists(staging)) file.detach(staging);
-}
-
 // Unlinks the object at `path` and frees its space; if it cannot be read well
 // enough to be freed (damaged by a kill or a full disk), detaches it instead
-// (its space stays unused), and if even that fails leaves it: it is scratch.
+// (its space stays unused); if it cannot even be opened, moves its link out of
+// the way to a scratch name of the root ("/.staging_discarded_N", which
+// readers skip), touching only the link.
 void drop(Hdf5File& file, const std::string& path) {
   try {
     file.remove(path);
+    return;
   } catch (const std::runtime_error&) {
-    try {
-      file.detach(path);
-    } catch (const std::runtime_error&) {  // nothing else to do with scratch space
+  }
+  try {
+    file.detach(path);
+    return;
+  } catch (const std::runtime_error&) {
+  }
+  for (int n = 0;; ++n) {
+    const std::string aside = kStagingRoot + "_discarded_" + std::to_string(n);
+    if (!file.exists(aside)) {
+      file.move(path, aside);
+      return;
     }
   }
 }
 
+// Room a commit may need beyond the raw bytes of its data: object headers,
+// B-trees, heaps, chunk index nodes.
+constexpr std::uint64_t kCommitOverhead = 256 * 1024;
+constexpr std::uint64_t kPerObjectOverhead = 4096;
+
+std::uint64_t array_bytes(const NamedArray& array) {
+  return array.values.size() * sizeof(double) + kPerObjectOverhead;
+}
+
+// An upper bound of what write_run can add to a file for `record`: the data
+// uncompressed (every dataset is new: each chunk is written once) and the
+// metadata of every object.
+std::uint64_t run_bytes_bound(const JobSpec& job, const RunRecord& record) {
+  const SampleRecord& s = record.samples;
+  std::uint64_t bytes = (static_cast<std::uint64_t>(s.observations.size()) +
+                         static_cast<std::uint64_t>(s.next_observations.size())) *
+                            sizeof(double) +
+                        s.actions.size() * 4 + s.rewards.size() * 8 + s.terminals.size();
+  bytes += record.graph.indptr.size() * 8 + record.graph.indices.size() * 12 +
+           static_cast<std::uint64_t>(record.node_states.size()) * 8;
+  for (const NamedArray& array : record.arrays) bytes += array_bytes(array);
+  for (const FitRecord& fit : record.fits) {
+    bytes += 16 * kPerObjectOverhead + fit.centers.size() * 4 +
+             static_cast<std::uint64_t>(fit.lspi.weights.size()) * 8 + fit.lspi.policy.size() * 4 +
+             fit.lspi.history.size() * 16 + fit.message.size();
+    if (job.output.store_matrices) {
+      bytes += static_cast<std::uint64_t>(fit.lspi.a.nonZeros()) * 12 +
+               static_cast<std::uint64_t>(fit.lspi.a.rows() + fit.lspi.b.size()) * 8;
+    }
+    for (const NamedArray& array : fit.arrays) bytes += array_bytes(array);
+  }
+  return bytes + kCommitOverhead;
+}
+
+// Drops an earlier, incomplete copy of a run and whatever a killed writer left
+// at its staging path (which may be damaged, so it is not read).
+void clear_run_slots(Hdf5File& file, const std::string& group, const std::string& staging) {
+  if (file.exists(group)) file.remove(group);
+  if (file.exists(staging)) drop(file, staging);
+}
+
 }  // namespace
+
+bool is_scratch(std::string_view root_member) {
+  return root_member.starts_with(std::string_view(kStagingRoot).substr(1));
+}
 
 std::string run_group(const std::string& task, std::int32_t run) {
   char buffer[32];
@@ -173,6 +225,9 @@ void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
   // kill can then damage at most the staging group, which a resume discards.
   const std::string group = run_group(job.task, record.run);
   const std::string staging = staging_group(job.task, record.run);
+  if (!file.in_memory()) {
+    require_room(file.path(), run_bytes_bound(job, record), "run " + std::to_string(record.run));
+  }
   clear_run_slots(file, group, staging);
   file.create_group(staging);
   write_samples(file, staging + "/samples", record.samples);
@@ -208,6 +263,10 @@ void write_run_image(Hdf5File& file, const JobSpec& job, std::int32_t run,
   }
   const std::string group = run_group(job.task, run);
   const std::string staging = staging_group(job.task, run);
+  if (!file.in_memory()) {
+    require_room(file.path(), 2 * static_cast<std::uint64_t>(image.size()) + kCommitOverhead,
+                 "run " + std::to_string(run));
+  }
   clear_run_slots(file, group, staging);
   file.copy_from(source, group, staging);  // with its complete mark: staging is never kept
   file.flush();
@@ -236,8 +295,8 @@ void drop_staging(Hdf5File& file) {
 }
 
 std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job) {
-  // Whatever a killed writer left under the staging path may be damaged: detach it.
-  if (file.exists(kStagingRoot)) file.detach(kStagingRoot);
+  // Whatever a killed writer left under the staging path may be damaged.
+  drop_staging(file);
   std::vector<std::int32_t> complete;
   for (std::int32_t run = 0; run < job.runs; ++run) {
     if (run_is_complete(file, job.task, run)) {
@@ -268,6 +327,11 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
     const std::string table = run_group(task, run) + "/fit_metrics";
     if (columns.empty()) columns = file.read_table_columns(table);
     for (TableRow& row : file.read_table(table)) rows.push_back(std::move(row));
+  }
+  if (!file.in_memory()) {
+    std::uint64_t row_bytes = 0;
+    for (const TableColumn& column : columns) row_bytes += 8 + column.string_size;
+    require_room(file.path(), 2 * rows.size() * row_bytes + kCommitOverhead, "the summary");
   }
   if (!columns.empty()) {
     file.create_table(staged, columns);

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/job/job_spec.hpp"
@@ -26,6 +27,9 @@ std::string run_group(const std::string& task, std::int32_t run);  // "/maze/run
 // Where a run is written before it is moved into place: "/.staging/maze/run_007".
 inline const std::string kStagingRoot = "/.staging";
 std::string staging_group(const std::string& task, std::int32_t run);
+// True for the root members that are the writer's scratch (".staging" and the
+// ".staging_discarded_N" of damaged leftovers): not results; readers skip them.
+bool is_scratch(std::string_view root_member);
 std::string fit_group_name(const JobSpec& job, const SweepPoint& point);  // "ggk/k_0016"
 
 // The columns of fit_metrics and summary for a task whose fits report `metrics`.

@@ -14,6 +14,7 @@ StoreWriter::StoreWriter(Hdf5File file, std::size_t queue_capacity)
 
 StoreWriter::~StoreWriter() {
   stop_thread();
+  if (file_ && failure_) file_->abandon();  // see close()
   file_.reset();
   if (failure_ && !failure_reported_) {
     // The last place the error can still be seen; losing it silently would hide
@@ -71,6 +72,8 @@ void StoreWriter::close() {
   stop_thread();
   // Closing writes what HDF5 still buffers: a failure there (a full disk) is
   // an error of the job, not something to drop.
+  // After a failed write the file is abandoned, not closed (Hdf5File::abandon):
+  // it stays as the last successful flush left it.
   std::exception_ptr close_failure;
   if (file_ && !failed()) {
     try {
@@ -78,6 +81,8 @@ void StoreWriter::close() {
     } catch (...) {
       close_failure = std::current_exception();
     }
+  } else if (file_) {
+    file_->abandon();
   }
   file_.reset();
   std::unique_lock lock(mutex_);

@@ -13,7 +13,9 @@
 // has failed: queued and later jobs are skipped (never run half a run after a
 // failed write, in particular never the job that marks a run complete), and every
 // later submit(), wait() and close() rethrows that exception. The engine then
-// stops; --resume redoes the incomplete runs. Nothing is swallowed: an error
+// stops; --resume redoes the incomplete runs. A failed writer abandons its file
+// instead of closing it (Hdf5File::abandon: closing would write cached metadata
+// about data that never reached the disk). Nothing is swallowed: an error
 // no caller saw by the time of destruction is printed to stderr by the destructor.
 //
 // Thread-safety: submit(), submit_and_wait(), wait() and failed() may be called

@@ -1,0 +1,242 @@
+#!/usr/bin/env bash
+# Nothing lost: the results file against a second writer, a full disk, a kill,
+# Ctrl-C, damage and hostile outputs, through the real ggk binary. One case per
+# call (ctest registers each, see tests/CMakeLists.txt):
+#   second_writer  --overwrite or a plain run on an output another ggk is writing
+#                  is refused before anything is touched (with and without
+#                  HDF5's file locking); two ggk creating one output: one wins,
+#                  the file is whole; a stale lock of a dead ggk is taken over, a
+#                  lock from another host is named
+#   overwrite      --overwrite keeps the old results until the first new run
+#                  lands: SIGINT, SIGKILL or an error before that leaves them
+#                  byte for byte; the .part file of a dead ggk is cleared
+#   full_disk      the file size limited (ulimit -f) at 12 points of a job: every
+#                  attempt fails cleanly (exit 1, no crash) or succeeds, and
+#                  --resume with room again finishes to the reference results
+#   empty_file     --resume on the 0-byte file of a ggk killed at birth starts it
+#   damage         bytes of a finished file overwritten: ggk verify names the
+#                  damage (exit 1), --resume recomputes the damaged run
+#   resume_rules   a comment-only edit of the job resumes; a changed key is
+#                  named; /dev/null and a directory as output are user errors
+#   interrupt      Ctrl-C mid-job: how to resume is printed, the lock is gone,
+#                  --resume finishes to the reference results
+# Environment: GGK (the binary), GGK_SOURCE_DIR.
+set -euo pipefail
+case_name=$1
+scratch=$(mktemp -d "${TMPDIR:-/tmp}/ggk-safety-XXXXXX")
+trap 'rm -rf "$scratch"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+map=$GGK_SOURCE_DIR/jobs/maps/four-rooms.txt
+
+# A job of `runs` runs taking ~0.3 s each at -j 1 (longer under sanitizers).
+write_job() {  # file runs [extra line]
+  cat >"$1" <<EOF
+name = "safety"
+task = "maze"
+runs = $2
+seed = 77
+[sweep]
+basis = ["ggk", "ogk"]
+kernels = [48, 64]
+sigma = [10.0]
+solver = ["brm", "lstdq"]
+[maze]
+map_file = "$map"
+series = 20
+steps_per_series = 150
+[output]
+file = "$scratch/default.h5"
+${3:-}
+EOF
+}
+
+# Waits (up to 120 s) until the file exists.
+wait_for() { for _ in $(seq 1200); do [ -e "$1" ] && return 0; sleep 0.1; done; fail "no $1"; }
+
+# Exit status of a command, without set -e stopping the script.
+status_of() { local s=0; "$@" || s=$?; echo $s; }
+
+# The results of a job computed without incident.
+reference() { "$GGK" run "$1" -j 2 -q -o "$2" 2>/dev/null; }
+
+case $case_name in
+second_writer)
+  write_job "$scratch/job.toml" 12
+  write_job "$scratch/other.toml" 2 '# another job'
+  for locking in TRUE FALSE; do
+    out=$scratch/x-$locking.h5
+    HDF5_USE_FILE_LOCKING=$locking "$GGK" run "$scratch/job.toml" -j 1 -q -o "$out" &
+    first=$!
+    wait_for "$out"  # the first run has landed
+    for second in "--overwrite" "--resume" ""; do
+      # shellcheck disable=SC2086
+      s=$(status_of env HDF5_USE_FILE_LOCKING=$locking "$GGK" run "$scratch/other.toml" -q $second \
+        -o "$out" 2>"$scratch/err")
+      [ "$s" = 2 ] || fail "locking=$locking: a second writer ($second) got status $s"
+      grep -q "being written by another ggk (pid $first on host" "$scratch/err" ||
+        grep -q "exists: pass --resume" "$scratch/err" ||
+        fail "second writer: $(cat "$scratch/err")"
+    done
+    wait $first || fail "locking=$locking: the first writer failed"
+    "$GGK" verify "$out" >/dev/null || fail "locking=$locking: the first writer's file is damaged"
+    "$GGK" info "$out" | grep -q "12 of 12 complete" || fail "locking=$locking: runs lost"
+    [ ! -e "$out.lock" ] || fail "lock file left behind"
+  done
+  # Two ggk creating one output at once: one wins, whole; the other is refused.
+  for attempt in 1 2 3; do
+    out=$scratch/race$attempt.h5
+    "$GGK" run "$scratch/job.toml" -j 1 -q -o "$out" 2>"$scratch/a.err" & a=$!
+    "$GGK" run "$scratch/other.toml" -j 1 -q -o "$out" 2>"$scratch/b.err" & b=$!
+    sa=0; wait $a || sa=$?
+    sb=0; wait $b || sb=$?
+    [ "$sa$sb" = 02 ] || [ "$sa$sb" = 20 ] || fail "race: statuses $sa and $sb"
+    "$GGK" verify "$out" >/dev/null || fail "race: damaged file"
+    job_text=$([ "$sa" = 0 ] && echo "$scratch/job.toml" || echo "$scratch/other.toml")
+    "$GGK" run "$job_text" -q --resume -o "$out" 2>"$scratch/err" || true
+    grep -q "0 runs computed" "$scratch/err" || fail "race: the winner's job is not the file's"
+  done
+  # A stale lock (a dead ggk on this host) is taken over; another host's is named.
+  out=$scratch/stale.h5
+  sleep 0 & dead=$!; wait $dead
+  printf 'ggk output lock\nhost=%s\npid=%s\nprocess_start=1\nsince=then\n' "$(hostname)" $dead \
+    >"$out.lock"
+  "$GGK" run "$scratch/other.toml" -q -o "$out" || fail "a stale lock was not taken over"
+  printf 'ggk output lock\nhost=elsewhere-node-17\npid=4242\nprocess_start=1\nsince=then\n' \
+    >"$out.lock"
+  s=$(status_of "$GGK" run "$scratch/other.toml" -q --overwrite -o "$out" 2>"$scratch/err")
+  [ "$s" = 2 ] && grep -q "pid 4242 on host elsewhere-node-17" "$scratch/err" &&
+    grep -q "remove $out.lock" "$scratch/err" || fail "foreign lock: $s $(cat "$scratch/err")"
+  ;;
+overwrite)
+  write_job "$scratch/old.toml" 2
+  write_job "$scratch/new.toml" 12 '# the new job'
+  out=$scratch/x.h5
+  "$GGK" run "$scratch/old.toml" -q -o "$out"
+  cp "$out" "$scratch/old-copy.h5"
+  for signal in INT KILL; do
+    "$GGK" run "$scratch/new.toml" -j 1 -q --overwrite -o "$out" 2>"$scratch/err" & pid=$!
+    wait_for "$out.part"
+    kill -s $signal $pid
+    wait $pid && fail "--overwrite survived SIG$signal"
+    cmp -s "$out" "$scratch/old-copy.h5" || fail "SIG$signal before the first run: old results changed"
+  done
+  [ -e "$out.part" ] || fail "SIGKILL should leave the .part file"
+  # The next ggk on the output clears the dead one's .part file.
+  "$GGK" run "$scratch/old.toml" -q --resume -o "$out" 2>"$scratch/err" || fail "resume after kill"
+  [ ! -e "$out.part" ] || fail "the dead ggk's .part file was not cleared"
+  grep -q "0 runs computed, 2 already complete" "$scratch/err" || fail "$(cat "$scratch/err")"
+  # A completed --overwrite replaces them.
+  "$GGK" run "$scratch/new.toml" -j 2 -q --overwrite -o "$out"
+  "$GGK" info "$out" | grep -q "12 of 12 complete" || fail "overwrite did not complete"
+  ;;
+full_disk)
+  write_job "$scratch/job.toml" 4
+  reference "$scratch/job.toml" "$scratch/reference.h5"
+  full=$(stat -c %s "$scratch/reference.h5")
+  crashes=0; failures=0; successes=0
+  for percent in 2 10 20 30 45 60 75 85 92 96 98 99; do
+    out=$scratch/limited-$percent.h5
+    limit_kib=$((full * percent / 100 / 1024 + 1))
+    # SIGXFSZ ignored: writes past the limit fail with EFBIG, as on a full disk.
+    s=$(status_of bash -c 'trap "" XFSZ; ulimit -f '$limit_kib'; exec "$@"' _ \
+      "$GGK" run "$scratch/job.toml" -j 1 -q -o "$out" 2>"$scratch/err")
+    case $s in
+    0) successes=$((successes + 1)) ;;
+    1) failures=$((failures + 1))
+       grep -q "ggk: error\|ggk: internal error" "$scratch/err" || fail "$percent%: no message" ;;
+    *) crashes=$((crashes + 1)); cat "$scratch/err" >&2; fail "$percent%: exit status $s" ;;
+    esac
+    if [ -e "$out" ]; then
+      "$GGK" run "$scratch/job.toml" -j 2 -q --resume -o "$out" 2>"$scratch/err" ||
+        fail "$percent%: --resume with room again failed: $(cat "$scratch/err")"
+    else
+      "$GGK" run "$scratch/job.toml" -j 2 -q -o "$out" 2>"$scratch/err" ||
+        fail "$percent%: a fresh run failed: $(cat "$scratch/err")"
+    fi
+    "$GGK" diff "$scratch/reference.h5" "$out" >/dev/null || fail "$percent%: results differ"
+    "$GGK" verify "$out" >/dev/null || fail "$percent%: damaged"
+  done
+  # The disk full while --resume rewrites the summary of a complete file: the
+  # old summary stays readable, and with room again --resume rewrites it.
+  cp "$scratch/reference.h5" "$scratch/summary.h5"
+  limit_kib=$(($(stat -c %s "$scratch/summary.h5") / 1024))
+  s=$(status_of bash -c 'trap "" XFSZ; ulimit -f '$limit_kib'; exec "$@"' _ \
+    "$GGK" run "$scratch/job.toml" -q --resume -o "$scratch/summary.h5" 2>"$scratch/err")
+  [ "$s" = 1 ] || fail "summary on a full disk: status $s: $(cat "$scratch/err")"
+  failures=$((failures + 1))
+  "$GGK" info "$scratch/summary.h5" | grep -q "4 of 4 complete" || fail "info after a failed summary"
+  "$GGK" run "$scratch/job.toml" -q --resume -o "$scratch/summary.h5" 2>"$scratch/err" ||
+    fail "resume after a failed summary: $(cat "$scratch/err")"
+  "$GGK" diff "$scratch/reference.h5" "$scratch/summary.h5" >/dev/null || fail "summary differs"
+  echo "full disk: $failures clean failures, $successes successes, $crashes crashes"
+  [ $failures -ge 6 ] || fail "the limits did not bite ($failures failures)"
+  ;;
+empty_file)
+  write_job "$scratch/job.toml" 2
+  : >"$scratch/x.h5"
+  "$GGK" run "$scratch/job.toml" -q --resume -o "$scratch/x.h5" 2>"$scratch/err" ||
+    fail "resume of an empty file: $(cat "$scratch/err")"
+  grep -q "is empty" "$scratch/err" || fail "no note about the empty file"
+  "$GGK" info "$scratch/x.h5" | grep -q "2 of 2 complete" || fail "not complete"
+  ;;
+damage)
+  command -v /usr/bin/python3 >/dev/null && /usr/bin/python3 -c "import h5py" 2>/dev/null ||
+    { echo "SKIP: no h5py"; exit 0; }
+  write_job "$scratch/job.toml" 3
+  reference "$scratch/job.toml" "$scratch/reference.h5"
+  cp "$scratch/reference.h5" "$scratch/x.h5"
+  "$GGK" verify "$scratch/x.h5" >/dev/null || fail "verify of a whole file"
+  # Overwrite 64 bytes in the middle of one chunk of run 1's observations.
+  /usr/bin/python3 - "$scratch/x.h5" <<'EOF'
+import sys, h5py
+path = sys.argv[1]
+with h5py.File(path, "r") as f:
+    info = f["/maze/run_001/samples/observations"].id.get_chunk_info(0)
+with open(path, "r+b") as raw:
+    raw.seek(info.byte_offset + info.size // 2)
+    raw.write(bytes(range(64)))
+EOF
+  s=0; "$GGK" verify "$scratch/x.h5" >"$scratch/out" || s=$?
+  [ "$s" = 1 ] && grep -q "/maze/run_001/samples/observations" "$scratch/out" ||
+    fail "damage not found (status $s): $(cat "$scratch/out")"
+  "$GGK" run "$scratch/job.toml" -q --resume -o "$scratch/x.h5" 2>"$scratch/err"
+  grep -q "run 1 of .* is damaged" "$scratch/err" || fail "resume did not say: $(cat "$scratch/err")"
+  grep -q "1 runs computed, 2 already complete" "$scratch/err" || fail "$(cat "$scratch/err")"
+  "$GGK" verify "$scratch/x.h5" >/dev/null || fail "still damaged after resume"
+  "$GGK" diff "$scratch/reference.h5" "$scratch/x.h5" >/dev/null || fail "repaired file differs"
+  ;;
+resume_rules)
+  write_job "$scratch/job.toml" 3
+  "$GGK" run "$scratch/job.toml" -q --runs 0:1 -o "$scratch/x.h5"
+  { echo "# a comment added later"; cat "$scratch/job.toml"; } >"$scratch/commented.toml"
+  "$GGK" run "$scratch/commented.toml" -q --resume -o "$scratch/x.h5" 2>"$scratch/err" ||
+    fail "a comment edit blocked --resume: $(cat "$scratch/err")"
+  sed 's/^seed = 77/seed = 78/' "$scratch/job.toml" >"$scratch/changed.toml"
+  s=$(status_of "$GGK" run "$scratch/changed.toml" -q --resume -o "$scratch/x.h5" 2>"$scratch/err")
+  [ "$s" = 2 ] && grep -q "seed: 77 in the results file, 78 in the job file" "$scratch/err" ||
+    fail "changed key not named (status $s): $(cat "$scratch/err")"
+  for output in /dev/null "$scratch"; do
+    s=$(status_of "$GGK" run "$scratch/job.toml" -q --resume -o "$output" 2>"$scratch/err")
+    [ "$s" = 2 ] || fail "output $output: status $s: $(cat "$scratch/err")"
+  done
+  ;;
+interrupt)
+  write_job "$scratch/job.toml" 8
+  reference "$scratch/job.toml" "$scratch/reference.h5"
+  out=$scratch/x.h5
+  "$GGK" run "$scratch/job.toml" -j 1 -o "$out" 2>"$scratch/err" & pid=$!
+  wait_for "$out"
+  kill -INT $pid
+  s=0; wait $pid || s=$?
+  [ "$s" = 130 ] || fail "SIGINT: status $s (expected 130: died of SIGINT)"
+  grep -q "interrupted (SIGINT); every run written to $out is complete" "$scratch/err" &&
+    grep -q -- "--resume -o $out" "$scratch/err" || fail "no resume hint: $(cat "$scratch/err")"
+  [ ! -e "$out.lock" ] || fail "lock file left after SIGINT"
+  "$GGK" run "$scratch/job.toml" -j 2 -q --resume -o "$out"
+  "$GGK" diff "$scratch/reference.h5" "$out" >/dev/null || fail "resumed results differ"
+  ;;
+*)
+  fail "unknown case $case_name"
+  ;;
+esac
+echo "ok: $case_name"
