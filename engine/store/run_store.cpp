@@ -1,8 +1,8 @@
 #include "engine/store/run_store.hpp"
 
+#include <charconv>
 #include <cstdint>
 #include <cstdio>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -15,10 +15,12 @@ namespace {
 constexpr std::size_t kNameSize = 16;  // basis, solver names
 constexpr std::size_t kStatusSize = 16;
 
+// The shortest text that reads back as exactly `value` ("2.5", "1e-06",
+// "10.000001"): distinct values always get distinct fit group names.
 std::string format_number(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
+  char text[64];
+  const auto result = std::to_chars(text, text + sizeof text, value);
+  return std::string(text, result.ptr);
 }
 
 template <typename T>
