@@ -33,7 +33,9 @@ std::string as_text(const TableValue& v) {
 
 }  // namespace
 
-void print_results_info(const std::filesystem::path& path, std::ostream& out) {
+namespace {
+
+void print_info(const std::filesystem::path& path, std::ostream& out) {
   std::optional<Hdf5File> opened;
   try {
     opened.emplace(Hdf5File::open_read_only(path));
@@ -112,6 +114,25 @@ void print_results_info(const std::filesystem::path& path, std::ostream& out) {
     }
     out << "\n";
   }
+}
+
+}  // namespace
+
+void print_results_info(const std::filesystem::path& path, std::ostream& out) {
+  // What is printed is gathered first: a file that fails half way (an attribute
+  // of the wrong type, damage) prints one error, not half a report.
+  std::ostringstream report;
+  try {
+    print_info(path, report);
+  } catch (const UsageError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw UsageError(path.string() +
+                     " does not read as a ggk results file (`ggk verify` says whether it is "
+                     "damaged): " +
+                     e.what());
+  }
+  out << report.str();
 }
 
 }  // namespace ggk::engine
