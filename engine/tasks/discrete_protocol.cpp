@@ -397,4 +397,59 @@ RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscretePr
   return record;
 }
 
+RunMemoryEstimate estimate_discrete_run(const DiscreteSizes& sizes,
+                                        const DiscreteProtocol& protocol, const JobSpec& job) {
+  const double states = sizes.states, d = sizes.state_dimension, m = sizes.actions;
+  const double n = static_cast<double>(protocol.series) * protocol.steps_per_series;
+  // Distinct (s, a, s') moves: at most the samples, and at most every state's
+  // moves with their successors. Only they survive folding.
+  const double moves = std::min(n, states * m * sizes.successors);
+  const double batch = job.lspi.fold_duplicates ? moves : n;
+  const std::vector<SweepPoint> points = expand_sweep(job);
+  double max_kernels = 0.0;
+  for (const SweepPoint& p : points) max_kernels = std::max<double>(max_kernels, p.kernels);
+  max_kernels = std::min(max_kernels, states);  // a fit with more kernels than nodes never starts
+
+  RunMemoryEstimate estimate;
+  // Samples: the raw walk and its copy in the record (observations as state
+  // vectors), the graph's transition list; then first the graph's edge lists,
+  // and once they are freed the episodic batch, the folding's hash map, the
+  // folded batch and the transition model built from it (sort order, successors).
+  const double record_samples = n * (2.0 * d * 8.0 + 13.0);
+  const double after_graph = sample_batch_bytes(n) +
+                             (job.lspi.fold_duplicates ? folding_bytes(n, moves) : 0.0) +
+                             sample_batch_bytes(batch) + batch * 20.0;
+  estimate.add(count_text(n) + " samples per run (series x steps_per_series)",
+               sample_batch_bytes(n) + record_samples + n * 8.0 +
+                   std::max(graph_building_bytes(n), after_graph));
+  // Per state: its vector (twice: environment and record), start list, visited
+  // flags (and as doubles in the record), goal flags, nearest visited state and
+  // distance, centre order, the transition model's row offsets.
+  estimate.add(
+      count_text(states) + " " + sizes.states_are,
+      sizes.simulator_bytes + states * (16.0 * d + 42.0 + 8.0 * m) + graph_bytes(moves, states));
+  estimate.add("the geodesic distances from " + count_text(max_kernels) + " centres to " +
+                   count_text(states) + " states",
+               max_kernels * states * 8.0);
+  estimate.add_per_fit("the kernel and feature tables of a fit with " + count_text(max_kernels) +
+                           " kernels (" + count_text(states) + " states x " + count_text(m) +
+                           " actions)",
+                       kernel_and_feature_bytes(states, max_kernels, m) + states * (m + 1.0) * 8.0);
+  estimate.add_per_fit("the LSPI system of a fit with " + count_text(m) + " x " +
+                           count_text(max_kernels) + " basis functions",
+                       lspi_bytes(states, max_kernels, m, batch));
+  // The fits' results: LSPI systems, policies, values, and the named starts'
+  // trajectories (test_max_steps + 1 states each when the goal is not reached).
+  double fits = 0.0;
+  for (const SweepPoint& p : points) {
+    fits += fit_record_bytes(states, std::min<double>(p.kernels, states), m,
+                             p.solver == kernels::LspiSolver::brm) +
+            sizes.named_starts * (protocol.test_max_steps + 1.0) * 12.0;
+  }
+  estimate.add("the results of " + count_text(static_cast<double>(points.size())) + " fits", fits);
+  estimate.record_bytes =
+      record_samples + graph_bytes(moves, states) + states * (d + 1.0) * 8.0 + fits;
+  return estimate;
+}
+
 }  // namespace ggk::engine

@@ -20,6 +20,7 @@
 #include "engine/job/job_spec.hpp"
 #include "engine/job/run_record.hpp"
 #include "engine/job/sweep.hpp"
+#include "engine/tasks/run_memory.hpp"
 #include "kernels/eigen_types.hpp"
 #include "kernels/random_stream.hpp"
 
@@ -74,6 +75,27 @@ inline const std::vector<std::string>& discrete_metric_names() {
 void nearest_visited_states(const kernels::RowMatrixXd& state_vectors,
                             const std::vector<std::uint8_t>& visited,
                             std::vector<std::int32_t>& nearest, std::vector<double>& distance);
+
+// What a run's memory depends on, known before the environment is built.
+struct DiscreteSizes {
+  double states = 0.0;
+  double state_dimension = 2.0;
+  double actions = 4.0;
+  // Distinct successors of a state and action (for the folded batch): 1 for a
+  // deterministic environment.
+  double successors = 1.0;
+  double named_starts = 0.0;     // each adds a stored trajectory per fit
+  double simulator_bytes = 0.0;  // what the simulator itself holds (map, joint grid)
+  std::string states_are;        // how the message names the states: "free cells"
+};
+
+// The peak memory of one run of the protocol (run_memory.hpp), from the job's
+// sizes alone: the samples in their copies (the raw walk, the record, the
+// episodic and the folded batch), the sample graph, the geodesic distances from
+// the most centres any sweep point uses, per fit the kernel and feature tables
+// and the LSPI system of the largest kernel count, and the fits' results.
+RunMemoryEstimate estimate_discrete_run(const DiscreteSizes& sizes,
+                                        const DiscreteProtocol& protocol, const JobSpec& job);
 
 // Runs one run of the protocol for every sweep point. Throws only on programmer
 // errors; a fit that cannot start (more kernels than graph nodes) or whose LSPI

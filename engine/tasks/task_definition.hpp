@@ -11,6 +11,7 @@
 #include "engine/job/run_record.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/task_table.hpp"
+#include "engine/tasks/run_memory.hpp"
 
 namespace ggk::engine {
 
@@ -22,9 +23,16 @@ namespace ggk::engine {
 using RunComputation = RunRecord (*)(const JobSpec& job, std::int32_t run,
                                      std::span<const SweepPoint> points);
 
+// The peak memory one run of `job` needs (run_memory.hpp), from the job's sizes
+// alone: cheap, allocates nothing that scales with the job, never throws for a
+// job its parser accepted. The runner refuses a job that cannot fit before it
+// creates the output file (engine/run/memory_check.hpp).
+using RunMemoryEstimator = RunMemoryEstimate (*)(const JobSpec& job);
+
 struct TaskDefinition {
   TaskTable table;  // table.name is the task's name
   RunComputation compute_run = nullptr;
+  RunMemoryEstimator estimate_run_bytes = nullptr;
 };
 
 }  // namespace ggk::engine

@@ -47,12 +47,35 @@ RunRecord run_arm(const sims::arm::ArmConfig& config, const JobSpec& job, std::i
   return record;
 }
 
+RunMemoryEstimate estimate_arm_run(const sims::arm::ArmConfig& config, const JobSpec& job) {
+  const sims::arm::Arm arm(config);  // at most 72 x 72 poses, as the parser built it
+  const double cells = static_cast<double>(arm.shoulder_steps()) * arm.elbow_steps();
+  DiscreteSizes sizes;
+  sizes.states = arm.num_states();
+  sizes.actions = arm.num_actions();
+  sizes.named_starts = 1.0;  // A
+  // The grid of state ids and per state its cell and goal flag.
+  sizes.simulator_bytes = 4.0 * cells + 9.0 * arm.num_states();
+  sizes.states_are = "free poses of the arm";
+  const DiscreteProtocol protocol{config.series, config.steps_per_series, config.test_max_steps,
+                                  /*walk_through_goals=*/true};
+  RunMemoryEstimate estimate = estimate_discrete_run(sizes, protocol, job);
+  // grid/state_of and grid/goal in the record (doubles, grown by doubling).
+  const double grid = 2.0 * 2.0 * 8.0 * cells;
+  estimate.add("the joint grid (" + count_text(cells) + " poses)", grid);
+  estimate.record_bytes += grid;
+  return estimate;
+}
+
 TaskDefinition arm_task_definition() {
   return {{"arm",
            [](const TomlTableReader& job, const std::filesystem::path&,
               std::vector<JobInput>&) -> std::any { return parse_arm_table(job); }},
           [](const JobSpec& job, std::int32_t run, std::span<const SweepPoint> points) {
             return run_arm(task_config_as<sims::arm::ArmConfig>(job), job, run, points);
+          },
+          [](const JobSpec& job) {
+            return estimate_arm_run(task_config_as<sims::arm::ArmConfig>(job), job);
           }};
 }
 

@@ -23,6 +23,10 @@ DiscreteEnvironment arm_environment(const sims::arm::Arm& arm);
 RunRecord run_arm(const sims::arm::ArmConfig& config, const JobSpec& job, std::int32_t run,
                   std::span<const SweepPoint> points);
 
+// The peak memory of one run (estimate_discrete_run with the arm's free poses,
+// plus the joint grid stored with the run).
+RunMemoryEstimate estimate_arm_run(const sims::arm::ArmConfig& config, const JobSpec& job);
+
 // The arm task for the task list: table [arm], runs through run_arm().
 TaskDefinition arm_task_definition();
 

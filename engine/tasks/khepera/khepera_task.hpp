@@ -33,6 +33,12 @@ inline const std::vector<std::string>& khepera_metric_names() {
 RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::int32_t run,
                       std::span<const SweepPoint> points);
 
+// The peak memory of one run: the walks' readings and samples in their copies,
+// the SOM (training and the map), the unit graph and distances, per fit the
+// kernel and feature tables over every reading and the LSPI system, and the
+// fits' results (episode trajectories).
+RunMemoryEstimate estimate_khepera_run(const KheperaTaskConfig& config, const JobSpec& job);
+
 // The Khepera task for the task list: table [khepera], runs through run_khepera().
 TaskDefinition khepera_task_definition();
 

@@ -28,6 +28,20 @@ RunRecord run_maze(const sims::maze::MazeConfig& config, const JobSpec& job, std
   return run_discrete_protocol(env, protocol, job, run, points);
 }
 
+RunMemoryEstimate estimate_maze_run(const sims::maze::MazeConfig& config, const JobSpec& job) {
+  const sims::maze::Maze maze(config.map_text);  // linear in the map, as its parser
+  DiscreteSizes sizes;
+  sizes.states = maze.num_states();
+  sizes.actions = maze.num_actions();
+  sizes.successors = config.slip > 0.0 ? maze.num_actions() : 1.0;
+  // The map's text, its grid of state ids, and per state its cell and vector.
+  sizes.simulator_bytes = static_cast<double>(config.map_text.size()) +
+                          4.0 * maze.rows() * maze.cols() + 32.0 * maze.num_states();
+  sizes.states_are = "free cells of the map";
+  const DiscreteProtocol protocol{config.series, config.steps_per_series, config.test_max_steps};
+  return estimate_discrete_run(sizes, protocol, job);
+}
+
 TaskDefinition maze_task_definition() {
   return {{"maze",
            [](const TomlTableReader& job, const std::filesystem::path& job_dir,
@@ -36,6 +50,9 @@ TaskDefinition maze_task_definition() {
            }},
           [](const JobSpec& job, std::int32_t run, std::span<const SweepPoint> points) {
             return run_maze(task_config_as<sims::maze::MazeConfig>(job), job, run, points);
+          },
+          [](const JobSpec& job) {
+            return estimate_maze_run(task_config_as<sims::maze::MazeConfig>(job), job);
           }};
 }
 

@@ -20,6 +20,9 @@ DiscreteEnvironment maze_environment(const sims::maze::Maze& maze, double slip);
 RunRecord run_maze(const sims::maze::MazeConfig& config, const JobSpec& job, std::int32_t run,
                    std::span<const SweepPoint> points);
 
+// The peak memory of one run (estimate_discrete_run with the map's free cells).
+RunMemoryEstimate estimate_maze_run(const sims::maze::MazeConfig& config, const JobSpec& job);
+
 // The maze task for the task list: table [maze], runs through run_maze().
 TaskDefinition maze_task_definition();
 
