@@ -18,6 +18,7 @@
 #include "engine/job/job_file.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/run/job_runner.hpp"
+#include "engine/run/memory_check.hpp"
 #include "engine/store/results_diff.hpp"
 #include "engine/store/results_info.hpp"
 #include "engine/store/results_merge.hpp"
@@ -43,8 +44,10 @@ int run_command(const std::string& job_path, const engine::RunOptions& options) 
 
 int validate_command(const std::string& job_path) {
   const engine::JobSpec job = engine::load_job_file(job_path, engine::task_tables());
-  std::printf("%s: ok (task %s, %d runs x %zu sweep points)\n", job_path.c_str(), job.task.c_str(),
-              job.runs, engine::expand_sweep(job).size());
+  const engine::JobMemoryEstimate memory = engine::estimate_job_memory(job, 1, 1);
+  std::printf("%s: ok (task %s, %d runs x %zu sweep points); about %s of memory per run\n",
+              job_path.c_str(), job.task.c_str(), job.runs, engine::expand_sweep(job).size(),
+              engine::format_bytes(memory.per_run).c_str());
   return 0;
 }
 
@@ -95,6 +98,8 @@ int main(int argc, char** argv) {
   run->add_flag("--resume", options.resume, "continue an interrupted run of the same job");
   run->add_flag("--overwrite", options.overwrite, "replace an existing results file");
   run->add_flag("-q,--quiet", options.quiet, "no progress output");
+  run->add_flag("--ignore-memory-check", options.ignore_memory_check,
+                "run even when the job's estimated memory exceeds what is available");
   run->add_option("--runs", runs_text,
                   "A:B computes only runs A..B-1 (a shard for a job array; join with ggk merge)");
   run->add_option("--rank-timeout", rank_timeout,

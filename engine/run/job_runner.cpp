@@ -13,6 +13,7 @@
 #include <tbb/parallel_for.h>
 
 #include "engine/job/sweep.hpp"
+#include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
 #include "engine/run/progress.hpp"
 #include "engine/run/stop_signals.hpp"
@@ -68,6 +69,7 @@ void print_run_summary(const JobSpec& job, const RunSummary& s) {
 RunSummary run_job(const JobSpec& job, const RunOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   const ComputeThreads threads(options.threads);
+  check_memory(job, options);  // before the output is created or touched
   OpenedResults opened = open_results(job, options);
   print_notes(opened.notes);
   StopSignals stop_signals(job.source_file, opened.target.output(), opened.target.temporary(),

@@ -1,7 +1,8 @@
 #pragma once
-// Runs a validated job: plans its runs, computes them as oneTBB tasks, and hands
-// each finished run to the store writer, which writes it whole and marks it
-// complete. --resume skips complete runs; the summary is rebuilt at the end.
+// Runs a validated job: checks that it fits in memory (memory_check.hpp), plans
+// its runs, computes them as oneTBB tasks, and hands each finished run to the
+// store writer, which writes it whole and marks it complete. --resume skips
+// complete runs; the summary is rebuilt at the end.
 
 #include <cstdint>
 #include <filesystem>
@@ -26,12 +27,13 @@ struct RunRange {
 };
 
 struct RunOptions {
-  std::filesystem::path output;  // empty: the job's [output] file
-  std::int32_t threads = 0;      // 0: all cores
-  bool resume = false;           // continue an existing results file of this job
-  bool overwrite = false;        // replace an existing results file
-  bool quiet = false;            // no progress output
-  std::optional<RunRange> runs;  // only these runs (a shard); checked against job.runs
+  std::filesystem::path output;      // empty: the job's [output] file
+  std::int32_t threads = 0;          // 0: all cores
+  bool resume = false;               // continue an existing results file of this job
+  bool overwrite = false;            // replace an existing results file
+  bool quiet = false;                // no progress output
+  std::optional<RunRange> runs;      // only these runs (a shard); checked against job.runs
+  bool ignore_memory_check = false;  // run a job whose estimate exceeds the memory available
 };
 
 struct RunSummary {

@@ -24,6 +24,7 @@
 #include "engine/job/job_error.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
 #include "engine/run/progress.hpp"
 #include "engine/store/run_store.hpp"
@@ -462,7 +463,10 @@ int run_job_over_mpi(const MpiSession& session, const std::filesystem::path& job
 
   std::optional<OpenedResults> opened;
   if (rank == 0) {
-    const Outcome outcome = attempt([&] { opened.emplace(open_results(*job, options.run)); });
+    const Outcome outcome = attempt([&] {
+      check_memory(*job, options.run);  // before the output is created or touched
+      opened.emplace(open_results(*job, options.run));
+    });
     if (const int status = agree(outcome, rank, size)) return status;
   } else if (const int status = agree({}, rank, size)) {
     return status;
