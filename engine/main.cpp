@@ -176,6 +176,9 @@ int main(int argc, char** argv) {
   } catch (const engine::UsageError& e) {
     std::fprintf(stderr, "ggk: error: %s\n", e.what());
     return kUserError;
+  } catch (const engine::RunFailure& e) {
+    std::fprintf(stderr, "ggk: error: %s\n", e.what());
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ggk: internal error: %s\n", e.what());
     return 1;

@@ -80,30 +80,45 @@ RunSummary run_job(const JobSpec& job, const RunOptions& options) {
   const std::vector<std::int32_t>& pending = opened.pending;
   const auto fits_per_run = static_cast<std::int32_t>(expand_sweep(job).size());
 
-  StoreWriter writer(std::move(opened.file));
   std::atomic<std::int64_t> failed_fits{0};
-  {
-    Progress progress(static_cast<std::int32_t>(pending.size()), fits_per_run, options.quiet);
-    tbb::parallel_for(
-        std::size_t{0}, pending.size(),
-        [&](std::size_t i) {
-          auto record = std::make_shared<const RunRecord>(compute_run(job, pending[i]));
-          failed_fits.fetch_add(failed_fits_of(*record));
-          writer.submit([record, &job, &progress, &opened, &stop_signals](Hdf5File& f) {
-            write_run(f, job, *record);
-            opened.target.publish(f);  // a new file takes its name with its first run
-            stop_signals.results_published();
-            progress.run_done();
-          });
-        },
-        tbb::simple_partitioner());
-    writer.wait();
+  try {
+    StoreWriter writer(std::move(opened.file));
+    {
+      Progress progress(static_cast<std::int32_t>(pending.size()), fits_per_run, options.quiet);
+      tbb::parallel_for(
+          std::size_t{0}, pending.size(),
+          [&](std::size_t i) {
+            auto record = std::make_shared<const RunRecord>(compute_run(job, pending[i]));
+            failed_fits.fetch_add(failed_fits_of(*record));
+            writer.submit([record, &job, &progress, &opened, &stop_signals](Hdf5File& f) {
+              write_run(f, job, *record);
+              opened.target.publish(f);  // a new file takes its name with its first run
+              stop_signals.results_published();
+              progress.run_done();
+            });
+          },
+          tbb::simple_partitioner());
+      writer.wait();
+    }
+    writer.submit([&job, &opened](Hdf5File& f) {
+      write_summary(f, job);
+      opened.target.publish(f);
+    });
+    writer.close();
+  } catch (const UsageError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    // The writer abandoned the file as its last commit left it (or the output
+    // was never touched): say which, and how to go on.
+    const std::string output = opened.target.output().string();
+    throw RunFailure(
+        std::string(e.what()) +
+        (opened.target.temporary().empty()
+             ? "\nggk: every run written to " + output +
+                   " is complete; when the cause is fixed, finish the job with `ggk run " +
+                   job.source_file.string() + " --resume -o " + output + "`"
+             : "\nggk: " + output + " is as it was (no run of this job was written)"));
   }
-  writer.submit([&job, &opened](Hdf5File& f) {
-    write_summary(f, job);
-    opened.target.publish(f);
-  });
-  writer.close();
 
   summary.runs_computed = static_cast<std::int32_t>(pending.size());
   summary.fits = static_cast<std::int64_t>(pending.size()) * fits_per_run;

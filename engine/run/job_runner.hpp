@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,14 @@ struct RunSummary {
   std::int64_t fits = 0;
   std::int64_t failed_fits = 0;  // invalid or solver_failed
   double seconds = 0.0;
+};
+
+// A job that stopped because a run could not be computed or written (a full
+// disk, an I/O error): not the user's mistake, not a bug; the message says what
+// the results file holds and how to go on. The CLI exits with status 1.
+class RunFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 RunSummary run_job(const JobSpec& job, const RunOptions& options);

@@ -48,8 +48,7 @@ void print_info(const std::filesystem::path& path, std::ostream& out) {
   }
   const std::string task = file.read_string_attribute("/", "task");
   const auto runs = static_cast<std::int32_t>(file.read_int64_attribute("/", "runs"));
-  std::int32_t complete = 0;
-  for (std::int32_t run = 0; run < runs; ++run) complete += run_is_complete(file, task, run);
+  const auto complete = static_cast<std::int32_t>(complete_runs(file, task, runs).size());
   out << "file:     " << path.string() << "\n"
       << "job file: " << file.read_string_attribute("/", "job_file") << "\n"
       << "task:     " << task << "\n"

@@ -52,18 +52,33 @@ std::map<std::string, std::string> job_identity(const Hdf5File& file) {
   return identity;
 }
 
-// "3, 5-9, 12" from ascending run ids.
-std::string ranges(const std::vector<std::int32_t>& runs) {
+// The runs in [0, runs) that no shard holds: how many, and as "3, 5-9, 12"
+// (the first ranges only).
+struct Gaps {
+  std::int64_t count = 0;
   std::string text;
-  for (std::size_t i = 0; i < runs.size();) {
-    std::size_t j = i;
-    while (j + 1 < runs.size() && runs[j + 1] == runs[j] + 1) ++j;
-    if (!text.empty()) text += ", ";
-    text += std::to_string(runs[i]);
-    if (j > i) text += "-" + std::to_string(runs[j]);
-    i = j + 1;
+};
+
+Gaps gaps(const std::map<std::int32_t, std::size_t>& owner, std::int32_t runs) {
+  constexpr int kShownRanges = 20;
+  Gaps result;
+  int shown = 0;
+  const auto add = [&](std::int32_t first, std::int32_t last) {  // inclusive
+    if (first > last) return;
+    result.count += static_cast<std::int64_t>(last) - first + 1;
+    if (shown == kShownRanges) result.text += ", ...";
+    if (shown++ >= kShownRanges) return;
+    if (!result.text.empty()) result.text += ", ";
+    result.text += std::to_string(first);
+    if (last > first) result.text += "-" + std::to_string(last);
+  };
+  std::int32_t next = 0;
+  for (const auto& [run, shard] : owner) {
+    add(next, run - 1);
+    next = run + 1;
   }
-  return text;
+  add(next, runs - 1);
+  return result;
 }
 
 }  // namespace
@@ -103,27 +118,23 @@ void merge_results(const std::filesystem::path& output,
     }
   }
 
-  // Which shard holds each complete run.
-  std::vector<std::optional<std::size_t>> owner(static_cast<std::size_t>(runs));
+  // Which shard holds each complete run (listed from the files: the cost follows
+  // what they hold, not the job's run count).
+  std::map<std::int32_t, std::size_t> owner;
   for (std::size_t s = 0; s < shards.size(); ++s) {
-    for (std::int32_t run = 0; run < runs; ++run) {
-      if (!run_is_complete(shards[s].file, task, run)) continue;
-      auto& held = owner[static_cast<std::size_t>(run)];
-      if (held) {
+    for (const std::int32_t run : complete_runs(shards[s].file, task, runs)) {
+      const auto [held, added] = owner.emplace(run, s);
+      if (!added) {
         throw UsageError("run " + std::to_string(run) + " is complete in both " +
-                         shards[*held].path.string() + " and " + shards[s].path.string() +
+                         shards[held->second].path.string() + " and " + shards[s].path.string() +
                          ": overlapping shards (give each run to one shard)");
       }
-      held = s;
     }
   }
-  std::vector<std::int32_t> missing;
-  for (std::int32_t run = 0; run < runs; ++run) {
-    if (!owner[static_cast<std::size_t>(run)]) missing.push_back(run);
-  }
-  if (!missing.empty() && !options.allow_partial) {
-    throw UsageError(std::to_string(missing.size()) + " of " + std::to_string(runs) +
-                     " runs are complete in no shard: " + ranges(missing) +
+  const Gaps missing = gaps(owner, runs);
+  if (missing.count > 0 && !options.allow_partial) {
+    throw UsageError(std::to_string(missing.count) + " of " + std::to_string(runs) +
+                     " runs are complete in no shard: " + missing.text +
                      "; compute them (ggk run --runs A:B), or pass --allow-partial to merge "
                      "what exists and let `ggk run JOB --resume -o " +
                      output.string() + "` fill them in");
@@ -149,10 +160,8 @@ void merge_results(const std::filesystem::path& output,
       }
     }
     merged.create_group("/" + task);
-    for (std::int32_t run = 0; run < runs; ++run) {
-      if (const auto& s = owner[static_cast<std::size_t>(run)]) {
-        merged.copy_from(shards[*s].file, run_group(task, run), run_group(task, run));
-      }
+    for (const auto& [run, s] : owner) {
+      merged.copy_from(shards[s].file, run_group(task, run), run_group(task, run));
     }
     write_summary(merged, task, runs);
     merged.flush();
@@ -161,10 +170,10 @@ void merge_results(const std::filesystem::path& output,
     throw;
   }
   std::filesystem::rename(temporary, output);
-  log << "ggk: merged " << runs - static_cast<std::int32_t>(missing.size()) << " of " << runs
-      << " runs from " << shards.size() << " shards into " << output.string() << "\n";
-  if (!missing.empty()) {
-    log << "ggk: runs missing: " << ranges(missing) << "; finish with `ggk run JOB --resume -o "
+  log << "ggk: merged " << owner.size() << " of " << runs << " runs from " << shards.size()
+      << " shards into " << output.string() << "\n";
+  if (missing.count > 0) {
+    log << "ggk: runs missing: " << missing.text << "; finish with `ggk run JOB --resume -o "
         << output.string() << "`\n";
   }
 }

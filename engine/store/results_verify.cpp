@@ -88,7 +88,8 @@ bool verify_results(const std::filesystem::path& path, std::ostream& out) {
   try {
     task = file.read_string_attribute("/", "task");
     runs = file.read_int64_attribute("/", "runs");
-    for (std::int32_t run = 0; run < runs; ++run) complete += run_is_complete(file, task, run);
+    complete = static_cast<std::int64_t>(
+        complete_runs(file, task, static_cast<std::int32_t>(runs)).size());
   } catch (const std::runtime_error& e) {
     if (walk.problems.empty()) {
       throw UsageError(path.string() + " is not a ggk results file (" + one_line(e.what()) + ")");

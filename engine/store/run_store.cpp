@@ -1,10 +1,12 @@
 #include "engine/store/run_store.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 
 #include "engine/store/disk_room.hpp"
 
@@ -296,14 +298,38 @@ void drop_staging(Hdf5File& file) {
   if (file.exists(kStagingRoot)) drop(file, kStagingRoot);
 }
 
+std::vector<std::int32_t> stored_runs(const Hdf5File& file, const std::string& task,
+                                      std::int32_t runs) {
+  std::vector<std::int32_t> ids;
+  const std::string task_group = "/" + task;
+  if (!file.exists(task_group)) return ids;
+  for (const std::string& name : file.member_names(task_group)) {
+    if (name.size() < 5 || name.compare(0, 4, "run_") != 0) continue;
+    std::int32_t id = 0;
+    const char* end = name.data() + name.size();
+    const auto [ptr, error] = std::from_chars(name.data() + 4, end, id);
+    if (error != std::errc() || ptr != end || id < 0 || id >= runs) continue;
+    if (run_group(task, id) == task_group + "/" + name) ids.push_back(id);
+  }
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+std::vector<std::int32_t> complete_runs(const Hdf5File& file, const std::string& task,
+                                        std::int32_t runs) {
+  std::vector<std::int32_t> complete = stored_runs(file, task, runs);
+  std::erase_if(complete, [&](std::int32_t run) { return !run_is_complete(file, task, run); });
+  return complete;
+}
+
 std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job) {
   // Whatever a killed writer left under the staging path may be damaged.
   drop_staging(file);
   std::vector<std::int32_t> complete;
-  for (std::int32_t run = 0; run < job.runs; ++run) {
+  for (const std::int32_t run : stored_runs(file, job.task, job.runs)) {
     if (run_is_complete(file, job.task, run)) {
       complete.push_back(run);
-    } else if (file.exists(run_group(job.task, run))) {
+    } else {
       file.remove(run_group(job.task, run));
     }
   }
@@ -324,8 +350,7 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
   }
   std::vector<TableRow> rows;
   std::vector<TableColumn> columns;
-  for (std::int32_t run = 0; run < runs; ++run) {
-    if (!run_is_complete(file, task, run)) continue;
+  for (const std::int32_t run : complete_runs(file, task, runs)) {
     const std::string table = run_group(task, run) + "/fit_metrics";
     if (columns.empty()) columns = file.read_table_columns(table);
     for (TableRow& row : file.read_table(table)) rows.push_back(std::move(row));

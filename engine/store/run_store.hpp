@@ -53,6 +53,14 @@ void write_run_image(Hdf5File& file, const JobSpec& job, std::int32_t run,
 
 bool run_is_complete(const Hdf5File& file, const std::string& task, std::int32_t run);
 
+// The ids in [0, runs) of the run groups stored under /<task> (complete or not),
+// ascending; and of the complete ones. They list the task group, so their cost
+// follows what the file holds, not `runs` (a shard of a job of 2^31 runs).
+std::vector<std::int32_t> stored_runs(const Hdf5File& file, const std::string& task,
+                                      std::int32_t runs);
+std::vector<std::int32_t> complete_runs(const Hdf5File& file, const std::string& task,
+                                        std::int32_t runs);
+
 // Detaches the staging groups and removes incomplete runs; returns the ids of the
 // complete ones.
 std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job);
