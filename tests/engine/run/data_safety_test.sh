@@ -114,7 +114,12 @@ overwrite)
   "$GGK" run "$scratch/old.toml" -q -o "$out"
   cp "$out" "$scratch/old-copy.h5"
   for signal in INT KILL; do
+    # Job control on: a background job of a script would otherwise start with
+    # SIGINT ignored, and a SIGINT sent before ggk installs its handler (just
+    # after the .part file appears) would be lost, not delivered.
+    set -m
     "$GGK" run "$scratch/new.toml" -j 1 -q --overwrite -o "$out" 2>"$scratch/err" & pid=$!
+    set +m
     wait_for "$out.part"
     kill -s $signal $pid
     wait $pid && fail "--overwrite survived SIG$signal"
