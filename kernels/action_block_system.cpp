@@ -27,20 +27,33 @@ std::string action_block_violation(const SparseRowMatrix& features, std::int32_t
 
 ActionBlockSystem::ActionBlockSystem(const SparseRowMatrix& features, std::int32_t num_actions,
                                      const SampleBatch& samples, LspiSolver solver, double gamma)
+    : ActionBlockSystem(features, false, num_actions, samples, solver, gamma) {}
+
+ActionBlockSystem::ActionBlockSystem(CopyBasisTag, const SparseRowMatrix& state_kernels,
+                                     std::int32_t num_actions, const SampleBatch& samples,
+                                     LspiSolver solver, double gamma)
+    : ActionBlockSystem(state_kernels, true, num_actions, samples, solver, gamma) {}
+
+ActionBlockSystem::ActionBlockSystem(const SparseRowMatrix& features, bool copy_rows,
+                                     std::int32_t num_actions, const SampleBatch& samples,
+                                     LspiSolver solver, double gamma)
     : features_(features),
+      copy_rows_(copy_rows),
       samples_(samples),
       num_actions_(num_actions),
-      p_(features.cols() / num_actions),
+      p_(copy_rows ? features.cols() : features.cols() / num_actions),
+      k_(p_ * num_actions),
       solver_(solver),
       gamma_(gamma),
       sqrt_weights_(samples.size()),
-      start_rhs_(Eigen::VectorXd::Zero(features.cols())) {
+      start_rhs_(Eigen::VectorXd::Zero(k_)) {
   use_calling_thread_blas();
   std::vector<std::vector<std::int32_t>> by_action(static_cast<std::size_t>(num_actions));
   for (std::size_t i = 0; i < samples.size(); ++i) {
     sqrt_weights_[i] = std::sqrt(samples.weights[i]);
     by_action[static_cast<std::size_t>(samples.actions[i])].push_back(static_cast<std::int32_t>(i));
   }
+  for (std::size_t i = 0; i < samples.size(); ++i) live_samples_ += samples.terminals[i] ? 0 : 1;
   start_blocks_.reserve(by_action.size());
   for (std::int32_t a = 0; a < num_actions; ++a) {
     const std::vector<std::int32_t>& rows = by_action[static_cast<std::size_t>(a)];
@@ -55,11 +68,12 @@ ActionBlockSystem::ActionBlockSystem(const SparseRowMatrix& features, std::int32
 Eigen::MatrixXd ActionBlockSystem::gather(const std::vector<std::int32_t>& rows, bool next_state,
                                           std::int32_t action) const {
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows.size()), p_);
-  const Eigen::Index offset = action * p_;
+  const Eigen::Index offset = copy_rows_ ? 0 : action * p_;
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const auto i = static_cast<std::size_t>(rows[r]);
     const std::int64_t state = next_state ? samples_.next_states[i] : samples_.states[i];
-    const auto table_row = static_cast<Eigen::Index>(state * num_actions_ + action);
+    const auto table_row =
+        static_cast<Eigen::Index>(copy_rows_ ? state : state * num_actions_ + action);
     for (SparseRowMatrix::InnerIterator it(features_, table_row); it; ++it) {
       out(static_cast<Eigen::Index>(r), it.col() - offset) = sqrt_weights_[i] * it.value();
     }
@@ -76,18 +90,9 @@ Eigen::VectorXd ActionBlockSystem::weighted_rewards(const std::vector<std::int32
   return out;
 }
 
-void ActionBlockSystem::assemble(const std::vector<std::int32_t>& policy, Eigen::MatrixXd& a,
-                                 Eigen::VectorXd& b) const {
+std::vector<std::vector<std::int32_t>> ActionBlockSystem::full_groups(
+    const std::vector<std::int32_t>& policy) const {
   const auto m = static_cast<std::size_t>(num_actions_);
-  const bool brm = solver_ == LspiSolver::brm;
-  a = Eigen::MatrixXd::Zero(features_.cols(), features_.cols());
-  b = start_rhs_;
-  for (std::size_t x = 0; x < m; ++x) {
-    a.block(static_cast<Eigen::Index>(x) * p_, static_cast<Eigen::Index>(x) * p_, p_, p_) =
-        start_blocks_[x];
-  }
-
-  // Non-terminal samples grouped by (a_i, b_i), each group in sample order.
   std::vector<std::vector<std::int32_t>> groups(m * m);
   for (std::size_t i = 0; i < samples_.size(); ++i) {
     if (samples_.terminals[i]) continue;
@@ -96,30 +101,128 @@ void ActionBlockSystem::assemble(const std::vector<std::int32_t>& policy, Eigen:
     groups[static_cast<std::size_t>(samples_.actions[i]) * m + next].push_back(
         static_cast<std::int32_t>(i));
   }
+  return groups;
+}
 
-  std::vector<Eigen::MatrixXd> next_blocks;  // E_b, lower triangle (BRM)
-  if (brm) next_blocks.assign(m, Eigen::MatrixXd::Zero(p_, p_));
-  Eigen::MatrixXd cross(p_, p_);
+void ActionBlockSystem::reset(PolicyBlocks& blocks) const {
+  const auto m = static_cast<std::size_t>(num_actions_);
+  blocks.cross.assign(m * m, Eigen::MatrixXd::Zero(p_, p_));
+  if (solver_ == LspiSolver::brm) blocks.next.assign(m, Eigen::MatrixXd::Zero(p_, p_));
+  blocks.rhs = start_rhs_;
+  blocks.group_sizes.assign(m * m, 0);
+}
+
+void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>& groups,
+                                   double sign, PolicyBlocks& blocks) const {
+  const auto m = static_cast<std::size_t>(num_actions_);
+  const bool brm = solver_ == LspiSolver::brm;
   for (std::size_t g = 0; g < groups.size(); ++g) {
     const std::vector<std::int32_t>& rows = groups[g];
     if (rows.empty()) continue;
     const auto x = static_cast<std::int32_t>(g / m), y = static_cast<std::int32_t>(g % m);
     const Eigen::MatrixXd u = gather(rows, false, x);
     const Eigen::MatrixXd v = gather(rows, true, y);
-    cross.noalias() = u.transpose() * v;  // C_xy
-    a.block(x * p_, y * p_, p_, p_) -= gamma_ * cross;
+    blocks.group_sizes[g] +=
+        static_cast<std::int64_t>(sign) * static_cast<std::int64_t>(rows.size());
+    if (blocks.group_sizes[g] == 0) {
+      blocks.cross[g].setZero();  // the sum over an empty group: exact zeros
+    } else if (sign > 0) {
+      blocks.cross[g].noalias() += u.transpose() * v;  // C_xy
+    } else {
+      blocks.cross[g].noalias() -= u.transpose() * v;
+    }
     if (!brm) continue;
-    a.block(y * p_, x * p_, p_, p_) -= gamma_ * cross.transpose();
-    next_blocks[static_cast<std::size_t>(y)].selfadjointView<Eigen::Lower>().rankUpdate(
-        v.transpose(), gamma_ * gamma_);
-    b.segment(y * p_, p_).noalias() -= gamma_ * (v.transpose() * weighted_rewards(rows));
+    blocks.next[static_cast<std::size_t>(y)].selfadjointView<Eigen::Lower>().rankUpdate(
+        v.transpose(), sign * gamma_ * gamma_);
+    blocks.rhs.segment(y * p_, p_).noalias() -=
+        (sign * gamma_) * (v.transpose() * weighted_rewards(rows));
+  }
+  if (!brm) return;
+  // E_y is an empty sum once no group (x, y) holds a sample.
+  for (std::size_t y = 0; y < m; ++y) {
+    std::int64_t size = 0;
+    for (std::size_t x = 0; x < m; ++x) size += blocks.group_sizes[x * m + y];
+    if (size != 0) continue;
+    blocks.next[y].setZero();
+    blocks.rhs.segment(static_cast<Eigen::Index>(y) * p_, p_) =
+        start_rhs_.segment(static_cast<Eigen::Index>(y) * p_, p_);
+  }
+}
+
+void ActionBlockSystem::compose(const PolicyBlocks& blocks, Eigen::MatrixXd& a,
+                                Eigen::VectorXd& b) const {
+  const auto m = static_cast<std::size_t>(num_actions_);
+  const bool brm = solver_ == LspiSolver::brm;
+  a = Eigen::MatrixXd::Zero(k_, k_);
+  b = blocks.rhs;
+  for (std::size_t x = 0; x < m; ++x) {
+    a.block(static_cast<Eigen::Index>(x) * p_, static_cast<Eigen::Index>(x) * p_, p_, p_) =
+        start_blocks_[x];
+  }
+  // In group order, as the sums were formed before the blocks were kept: A is the
+  // same bit for bit as subtracting each group's product as it is formed.
+  for (std::size_t g = 0; g < m * m; ++g) {
+    if (blocks.group_sizes[g] == 0) continue;
+    const auto x = static_cast<Eigen::Index>(g / m), y = static_cast<Eigen::Index>(g % m);
+    a.block(x * p_, y * p_, p_, p_) -= gamma_ * blocks.cross[g];
+    if (brm) a.block(y * p_, x * p_, p_, p_) -= gamma_ * blocks.cross[g].transpose();
   }
   if (!brm) return;
   for (std::size_t y = 0; y < m; ++y) {
     const auto offset = static_cast<Eigen::Index>(y) * p_;
     a.block(offset, offset, p_, p_) +=
-        next_blocks[y].selfadjointView<Eigen::Lower>().toDenseMatrix();
+        blocks.next[y].selfadjointView<Eigen::Lower>().toDenseMatrix();
   }
+}
+
+void ActionBlockSystem::assemble(const std::vector<std::int32_t>& policy, Eigen::MatrixXd& a,
+                                 Eigen::VectorXd& b) const {
+  PolicyBlocks blocks;
+  reset(blocks);
+  accumulate(full_groups(policy), 1.0, blocks);
+  compose(blocks, a, b);
+}
+
+std::int64_t ActionBlockSystem::update(const std::vector<std::int32_t>& policy, Eigen::MatrixXd& a,
+                                       Eigen::VectorXd& b) {
+  const auto m = static_cast<std::size_t>(num_actions_);
+  const std::size_t n = samples_.size();
+  std::int64_t changed = 0;
+  if (!bootstrap_.empty()) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (samples_.terminals[i]) continue;
+      const std::int32_t next = policy[static_cast<std::size_t>(samples_.next_states[i])];
+      changed += next != bootstrap_[i] ? 1 : 0;
+    }
+  }
+  last_rebuilt_ = bootstrap_.empty() || 2 * changed >= live_samples_;
+  if (last_rebuilt_) {
+    reset(cached_);
+    accumulate(full_groups(policy), 1.0, cached_);
+    bootstrap_.assign(n, -1);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!samples_.terminals[i]) {
+        bootstrap_[i] = policy[static_cast<std::size_t>(samples_.next_states[i])];
+      }
+    }
+    compose(cached_, a, b);
+    return live_samples_;
+  }
+  std::vector<std::vector<std::int32_t>> removed(m * m), added(m * m);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (samples_.terminals[i]) continue;
+    const std::int32_t next = policy[static_cast<std::size_t>(samples_.next_states[i])];
+    if (next == bootstrap_[i]) continue;
+    const auto x = static_cast<std::size_t>(samples_.actions[i]);
+    removed[x * m + static_cast<std::size_t>(bootstrap_[i])].push_back(
+        static_cast<std::int32_t>(i));
+    added[x * m + static_cast<std::size_t>(next)].push_back(static_cast<std::int32_t>(i));
+    bootstrap_[i] = next;
+  }
+  accumulate(removed, -1.0, cached_);
+  accumulate(added, 1.0, cached_);
+  compose(cached_, a, b);
+  return changed;
 }
 
 }  // namespace ggk::kernels

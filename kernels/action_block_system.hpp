@@ -17,7 +17,18 @@
 // samples gathered per (a_i, b_i) group in sample order, so A is deterministic.
 // Cost per policy: ~3 n p^2 flops (2 n p^2 for LSTD-Q) and O(k^2 + n p) memory.
 //
-// Thread-safety: const members may be called from several threads.
+// Policy iteration changes the bootstrap action b_i of only some samples, so
+// `update` keeps C, E and b of the last policy and moves just those samples from
+// group (a_i, b_old) to (a_i, b_new): a rank-r update costing ~6 r p^2 flops (BRM)
+// instead of ~3 n p^2. It rebuilds everything instead when 2 r >= n_live (the
+// non-terminal samples) or on the first call; a rebuild gives A and b bit for bit
+// as `assemble`. An updated A equals the rebuilt one up to rounding (the sums run
+// in another order: differences of a few ulps of the summed magnitudes, and an
+// exact zero of the definition may come out as such a rounding residue unless
+// its whole group emptied, which resets the group's block to exact zeros).
+//
+// Thread-safety: const members may be called from several threads; `update`
+// changes the object (one thread at a time).
 
 #include <cstdint>
 #include <string>
@@ -40,12 +51,47 @@ class ActionBlockSystem {
   ActionBlockSystem(const SparseRowMatrix& features, std::int32_t num_actions,
                     const SampleBatch& samples, LspiSolver solver, double gamma);
 
+  // The copy basis given by its state kernels alone (N x p, kappa(s, a) = row s for
+  // every a): the same A and b bit for bit as for the table copy_basis(state_kernels,
+  // num_actions), without forming it. Keeps references to state_kernels and samples.
+  struct CopyBasisTag {};
+  static constexpr CopyBasisTag copy_basis_tag{};
+  ActionBlockSystem(CopyBasisTag, const SparseRowMatrix& state_kernels, std::int32_t num_actions,
+                    const SampleBatch& samples, LspiSolver solver, double gamma);
+
   // A (k x k, dense; BRM: symmetric, both triangles) and b for the greedy policy
   // `policy` (an action per table state).
   void assemble(const std::vector<std::int32_t>& policy, Eigen::MatrixXd& a,
                 Eigen::VectorXd& b) const;
 
+  // As assemble, but from the blocks of the previous call's policy by a rank-r
+  // update where fewer than half of the live samples changed bootstrap action.
+  // Returns the number of samples updated (0 and a rebuild are told apart by
+  // last_update_rebuilt()).
+  std::int64_t update(const std::vector<std::int32_t>& policy, Eigen::MatrixXd& a,
+                      Eigen::VectorXd& b);
+  bool last_update_rebuilt() const { return last_rebuilt_; }
+
  private:
+  // The policy-dependent parts: C_xy (m * m blocks, row x * m + y), E_y (m blocks,
+  // lower triangle, BRM), b (start_rhs_ minus gamma sum_i e_{b_i} v_i sqrt(w_i) r_i
+  // for BRM), and the size of every (x, y) group.
+  struct PolicyBlocks {
+    std::vector<Eigen::MatrixXd> cross;
+    std::vector<Eigen::MatrixXd> next;
+    Eigen::VectorXd rhs;
+    std::vector<std::int64_t> group_sizes;
+  };
+
+  void reset(PolicyBlocks& blocks) const;
+  // Adds (sign +1) or removes (sign -1) the samples `groups[x * m + y]` (each in
+  // sample order) with bootstrap action y to / from the blocks.
+  void accumulate(const std::vector<std::vector<std::int32_t>>& groups, double sign,
+                  PolicyBlocks& blocks) const;
+  void compose(const PolicyBlocks& blocks, Eigen::MatrixXd& a, Eigen::VectorXd& b) const;
+  // Non-terminal samples grouped by (a_i, b_i), each group in sample order.
+  std::vector<std::vector<std::int32_t>> full_groups(const std::vector<std::int32_t>& policy) const;
+
   // Row r of the result is sqrt(w_i) kappa(s, action) for sample i = rows[r], s its
   // start (next_state = false) or successor state.
   Eigen::MatrixXd gather(const std::vector<std::int32_t>& rows, bool next_state,
@@ -54,15 +100,26 @@ class ActionBlockSystem {
   // sqrt(w_i) r_i for sample i = rows[r].
   Eigen::VectorXd weighted_rewards(const std::vector<std::int32_t>& rows) const;
 
-  const SparseRowMatrix& features_;
+  ActionBlockSystem(const SparseRowMatrix& features, bool copy_rows, std::int32_t num_actions,
+                    const SampleBatch& samples, LspiSolver solver, double gamma);
+
+  const SparseRowMatrix& features_;  // the table, or the state kernels (copy_rows_)
+  bool copy_rows_;                   // features_ row s is kappa(s, a) for every a
   const SampleBatch& samples_;
   std::int32_t num_actions_;
   Eigen::Index p_;
+  Eigen::Index k_;  // m p
   LspiSolver solver_;
   double gamma_;
   std::vector<double> sqrt_weights_;
   std::vector<Eigen::MatrixXd> start_blocks_;  // D_a, both triangles
   Eigen::VectorXd start_rhs_;                  // sum_i e_{a_i} u_i sqrt(w_i) r_i
+  std::int64_t live_samples_ = 0;              // non-terminal samples
+  // State of `update`: the blocks and every sample's bootstrap action for the last
+  // policy (-1 for terminal samples); empty before the first call.
+  PolicyBlocks cached_;
+  std::vector<std::int32_t> bootstrap_;
+  bool last_rebuilt_ = false;
 };
 
 }  // namespace ggk::kernels

@@ -1,5 +1,6 @@
 #include "kernels/gaussian_kernels.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -21,22 +22,31 @@ void check_width(double sigma, double truncation) {
 }
 
 // Fills an N x p sparse matrix row by row from kernel_of(i, j), dropping values
-// below the truncation threshold (and exact zeros).
+// below the truncation threshold (and exact zeros). The entries come in row order,
+// columns ascending, so they go straight into the compressed arrays.
 template <typename KernelOf>
 SparseRowMatrix build_kernel_matrix(Eigen::Index rows, Eigen::Index cols, double truncation,
                                     KernelOf kernel_of) {
-  std::vector<Eigen::Triplet<double, std::int32_t>> entries;
-  entries.reserve(static_cast<std::size_t>(rows * cols));
+  std::vector<double> values;
+  std::vector<std::int32_t> columns;
+  values.reserve(static_cast<std::size_t>(rows * cols));
+  columns.reserve(static_cast<std::size_t>(rows * cols));
+  SparseRowMatrix matrix(rows, cols);
+  auto* outer = matrix.outerIndexPtr();
+  outer[0] = 0;
   for (Eigen::Index i = 0; i < rows; ++i) {
     for (Eigen::Index j = 0; j < cols; ++j) {
       const double k = kernel_of(i, j);
       if (k > 0.0 && k >= truncation) {
-        entries.emplace_back(static_cast<std::int32_t>(i), static_cast<std::int32_t>(j), k);
+        values.push_back(k);
+        columns.push_back(static_cast<std::int32_t>(j));
       }
     }
+    outer[i + 1] = static_cast<std::int32_t>(values.size());
   }
-  SparseRowMatrix matrix(rows, cols);
-  matrix.setFromTriplets(entries.begin(), entries.end());
+  matrix.resizeNonZeros(static_cast<Eigen::Index>(values.size()));
+  std::copy(values.begin(), values.end(), matrix.valuePtr());
+  std::copy(columns.begin(), columns.end(), matrix.innerIndexPtr());
   return matrix;
 }
 

@@ -1,5 +1,6 @@
 #include "kernels/lspi.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -62,14 +63,8 @@ SparseColMatrix compress_system(const Eigen::MatrixXd& dense, Triangle triangle,
   return a;
 }
 
-void check_inputs(const SparseRowMatrix& features, std::int32_t num_actions,
-                  const SampleBatch& samples, const LspiOptions& options) {
+void check_options(std::int32_t num_actions, const LspiOptions& options) {
   if (num_actions <= 0) throw std::invalid_argument("fit_lspi: num_actions must be > 0");
-  if (features.rows() % num_actions != 0) {
-    throw std::invalid_argument("fit_lspi: feature table has " + std::to_string(features.rows()) +
-                                " rows, not a multiple of " + std::to_string(num_actions) +
-                                " actions");
-  }
   if (!(options.gamma >= 0.0 && options.gamma < 1.0)) {
     throw std::invalid_argument("fit_lspi: gamma must be in [0, 1)");
   }
@@ -77,6 +72,16 @@ void check_inputs(const SparseRowMatrix& features, std::int32_t num_actions,
     throw std::invalid_argument("fit_lspi: ridge must be finite and >= 0");
   }
   if (options.max_iterations < 1) throw std::invalid_argument("fit_lspi: max_iterations < 1");
+}
+
+void check_inputs(const SparseRowMatrix& features, std::int32_t num_actions,
+                  const SampleBatch& samples, const LspiOptions& options) {
+  check_options(num_actions, options);
+  if (features.rows() % num_actions != 0) {
+    throw std::invalid_argument("fit_lspi: feature table has " + std::to_string(features.rows()) +
+                                " rows, not a multiple of " + std::to_string(num_actions) +
+                                " actions");
+  }
   samples.validate(static_cast<std::int32_t>(features.rows() / num_actions), num_actions);
   const std::string violation = action_block_violation(features, num_actions);
   if (!violation.empty()) {
@@ -84,7 +89,108 @@ void check_inputs(const SparseRowMatrix& features, std::int32_t num_actions,
   }
 }
 
+// True when the table is a copy basis: for every state, the rows of all actions
+// hold the same entries (values, and columns shifted by a p). One pass over the
+// table.
+bool is_copy_layout_internal(const SparseRowMatrix& features, std::int32_t num_actions) {
+  const Eigen::Index p = features.cols() / num_actions;
+  const Eigen::Index states = features.rows() / num_actions;
+  const auto* outer = features.outerIndexPtr();
+  const auto* inner = features.innerIndexPtr();
+  const double* values = features.valuePtr();
+  for (Eigen::Index s = 0; s < states; ++s) {
+    const Eigen::Index first = s * num_actions;
+    const auto begin = outer[first], count = outer[first + 1] - outer[first];
+    for (std::int32_t a = 1; a < num_actions; ++a) {
+      const auto other = outer[first + a];
+      if (outer[first + a + 1] - other != count) return false;
+      for (std::int64_t e = 0; e < count; ++e) {
+        if (inner[other + e] != inner[begin + e] + a * p ||
+            !(values[other + e] == values[begin + e])) {
+          return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
+// The greedy policy of a copy basis from its state kernels: row s * row_step of
+// `kernels` holds kappa(s) (p columns). Q(s, a) sums v * w[a p + j] over the row's
+// entries in order, as the sparse product features * w does for row s * m + a of
+// the table, so the values (and the policy) are bit for bit the same.
+template <std::int32_t kActions>
+void copy_greedy_rows(const SparseRowMatrix& kernels, Eigen::Index row_step,
+                      std::int32_t num_actions, const std::vector<double>& by_center,
+                      std::vector<std::int32_t>& policy) {
+  const std::int32_t m = kActions > 0 ? kActions : num_actions;
+  const auto* outer = kernels.outerIndexPtr();
+  const auto* inner = kernels.innerIndexPtr();
+  const double* values = kernels.valuePtr();
+  std::vector<double> q_storage(static_cast<std::size_t>(m));
+  for (std::size_t s = 0; s < policy.size(); ++s) {
+    const auto row = static_cast<Eigen::Index>(s) * row_step;
+    // A fixed-size local array stays in registers; each lane sums in entry order.
+    double q_fixed[kActions > 0 ? kActions : 1] = {};
+    double* q = kActions > 0 ? q_fixed : q_storage.data();
+    if constexpr (kActions <= 0) std::fill(q_storage.begin(), q_storage.end(), 0.0);
+    for (auto e = outer[row]; e < outer[row + 1]; ++e) {
+      const double v = values[e];
+      const double* w = by_center.data() + static_cast<std::size_t>(inner[e]) * m;
+      for (std::int32_t a = 0; a < m; ++a) q[a] += v * w[a];
+    }
+    std::int32_t best = 0;
+    for (std::int32_t a = 1; a < m; ++a) {
+      if (q[a] > q[best]) best = a;
+    }
+    policy[s] = best;
+  }
+}
+
+// The greedy policy of a copy basis from its state kernels: row s * row_step of
+// `kernels` holds kappa(s) (p columns). Q(s, a) sums v * w[a p + j] over the row's
+// entries in order, as the sparse product features * w does for row s * m + a of
+// the table, so the values (and the policy) are bit for bit the same. The weights
+// are read centre-major (w[a p + j] at j m + a) so one entry serves all actions.
+std::vector<std::int32_t> copy_greedy(const SparseRowMatrix& kernels, Eigen::Index row_step,
+                                      Eigen::Index p, std::int32_t num_actions,
+                                      const Eigen::VectorXd& weights) {
+  std::vector<double> by_center(static_cast<std::size_t>(p * num_actions));
+  for (Eigen::Index j = 0; j < p; ++j) {
+    for (std::int32_t a = 0; a < num_actions; ++a) {
+      by_center[static_cast<std::size_t>(j * num_actions + a)] = weights(a * p + j);
+    }
+  }
+  std::vector<std::int32_t> policy(static_cast<std::size_t>(kernels.rows() / row_step), 0);
+  switch (num_actions) {
+    case 2:
+      copy_greedy_rows<2>(kernels, row_step, num_actions, by_center, policy);
+      break;
+    case 4:
+      copy_greedy_rows<4>(kernels, row_step, num_actions, by_center, policy);
+      break;
+    default:
+      copy_greedy_rows<0>(kernels, row_step, num_actions, by_center, policy);
+  }
+  return policy;
+}
+
 }  // namespace
+
+bool is_copy_layout(const SparseRowMatrix& features, std::int32_t num_actions) {
+  if (num_actions <= 0 || features.rows() % num_actions != 0 ||
+      features.cols() % num_actions != 0 || !features.isCompressed()) {
+    return false;
+  }
+  return is_copy_layout_internal(features, num_actions);
+}
+
+std::vector<std::int32_t> copy_layout_greedy_policy(const SparseRowMatrix& features,
+                                                    std::int32_t num_actions,
+                                                    const Eigen::VectorXd& weights) {
+  if (!features.isCompressed()) return greedy_policy(features, num_actions, weights);
+  return copy_greedy(features, num_actions, features.cols() / num_actions, num_actions, weights);
+}
 
 Eigen::VectorXd action_values(const SparseRowMatrix& features, const Eigen::VectorXd& weights) {
   return features * weights;
@@ -115,14 +221,16 @@ Eigen::VectorXd state_values(const SparseRowMatrix& features, std::int32_t num_a
   return values;
 }
 
-LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
-                    const SampleBatch& samples, const LspiOptions& options) {
-  check_inputs(features, num_actions, samples, options);
-  const std::size_t n = samples.size();
-  const auto num_states = static_cast<std::size_t>(features.rows() / num_actions);
-  const bool brm = options.solver == LspiSolver::brm;
+namespace {
 
-  const ActionBlockSystem system(features, num_actions, samples, options.solver, options.gamma);
+// Policy iteration over an assembled system; `greedy(w)` is the greedy policy of
+// weights w over all table states.
+template <class Greedy>
+LspiResult iterate_policies(ActionBlockSystem& system, std::size_t num_states,
+                            const SampleBatch& samples, const LspiOptions& options,
+                            const Greedy& greedy) {
+  const std::size_t n = samples.size();
+  const bool brm = options.solver == LspiSolver::brm;
   SymmetricSolver symmetric(options.solver_settings);
   NonsymmetricSolver nonsymmetric(options.solver_settings);
 
@@ -140,7 +248,7 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
   Eigen::MatrixXd dense_a;
   for (std::int32_t iteration = 1; iteration <= options.max_iterations; ++iteration) {
     Eigen::VectorXd b;
-    system.assemble(policy, dense_a, b);
+    system.update(policy, dense_a, b);
     SparseColMatrix a =
         compress_system(dense_a, brm ? Triangle::lower : Triangle::full, options.ridge);
 
@@ -153,7 +261,7 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
       return result;
     }
 
-    std::vector<std::int32_t> improved = greedy_policy(features, num_actions, w);
+    std::vector<std::int32_t> improved = greedy(w);
     std::int32_t changes = 0;
     for (std::size_t s = 0; s < num_states; ++s) {
       changes += (on_samples[s] && improved[s] != policy[s]) ? 1 : 0;
@@ -172,6 +280,39 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
   }
   result.status = LspiStatus::max_iterations;
   return result;
+}
+
+}  // namespace
+
+LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
+                    const SampleBatch& samples, const LspiOptions& options) {
+  check_inputs(features, num_actions, samples, options);
+  const auto num_states = static_cast<std::size_t>(features.rows() / num_actions);
+  ActionBlockSystem system(features, num_actions, samples, options.solver, options.gamma);
+  if (is_copy_layout(features, num_actions)) {
+    const Eigen::Index p = features.cols() / num_actions;
+    return iterate_policies(system, num_states, samples, options, [&](const Eigen::VectorXd& w) {
+      return copy_greedy(features, num_actions, p, num_actions, w);
+    });
+  }
+  return iterate_policies(system, num_states, samples, options, [&](const Eigen::VectorXd& w) {
+    return greedy_policy(features, num_actions, w);
+  });
+}
+
+LspiResult fit_lspi_copy_basis(const SparseRowMatrix& state_kernels, std::int32_t num_actions,
+                               const SampleBatch& samples, const LspiOptions& options) {
+  check_options(num_actions, options);
+  samples.validate(static_cast<std::int32_t>(state_kernels.rows()), num_actions);
+  SparseRowMatrix kernels = state_kernels;  // compressed, as copy_greedy reads it
+  kernels.makeCompressed();
+  const auto num_states = static_cast<std::size_t>(kernels.rows());
+  ActionBlockSystem system(ActionBlockSystem::copy_basis_tag, kernels, num_actions, samples,
+                           options.solver, options.gamma);
+  const Eigen::Index p = kernels.cols();
+  return iterate_policies(system, num_states, samples, options, [&](const Eigen::VectorXd& w) {
+    return copy_greedy(kernels, 1, p, num_actions, w);
+  });
 }
 
 }  // namespace ggk::kernels

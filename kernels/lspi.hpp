@@ -74,12 +74,30 @@ struct LspiResult {
 LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
                     const SampleBatch& samples, const LspiOptions& options);
 
+// fit_lspi(copy_basis(state_kernels, num_actions), num_actions, samples, options)
+// from the state kernels (N x p) alone, bit for bit the same result, without the
+// (N m) x (m p) table (m times the kernels' memory) or the pass that builds it.
+LspiResult fit_lspi_copy_basis(const SparseRowMatrix& state_kernels, std::int32_t num_actions,
+                               const SampleBatch& samples, const LspiOptions& options);
+
 // Q(s, a) for every table row, i.e. features * w.
 Eigen::VectorXd action_values(const SparseRowMatrix& features, const Eigen::VectorXd& weights);
 
 // argmax_a Q(s, a) per state (ties to the lowest action).
 std::vector<std::int32_t> greedy_policy(const SparseRowMatrix& features, std::int32_t num_actions,
                                         const Eigen::VectorXd& weights);
+
+// True when `features` is a copy-basis table: for every state the rows of all
+// actions hold the same entries, those of action a shifted by a p columns.
+bool is_copy_layout(const SparseRowMatrix& features, std::int32_t num_actions);
+
+// greedy_policy for a copy-basis table (is_copy_layout), reading only the rows of
+// action 0 (a quarter of the table for 4 actions): Q(s, a) sums the same products
+// in the same order as features * w, so the policy is bit for bit greedy_policy's.
+// fit_lspi uses it when the table is a copy basis.
+std::vector<std::int32_t> copy_layout_greedy_policy(const SparseRowMatrix& features,
+                                                    std::int32_t num_actions,
+                                                    const Eigen::VectorXd& weights);
 
 // V(s) = max_a Q(s, a) per state.
 Eigen::VectorXd state_values(const SparseRowMatrix& features, std::int32_t num_actions,

@@ -78,21 +78,95 @@ SquaredMatch best_match_squared(const double* x, const std::vector<double>& tabl
   return {best_unit, best};
 }
 
-// BMU of every row of `points`, in parallel; each row is independent, so the
-// result does not depend on the partition or the thread count.
+// The batch search screens units through the BLAS and settles on the exact
+// distance. For a block of query rows x_i, s(i, u) = |m_u|^2 - 2 x_i . m_u (one GEMM
+// for the block) equals |x_i - m_u|^2 - |x_i|^2 up to rounding of at most
+// ~(d + 2) eps (|x_i|^2 + |m_u|^2). Every unit whose score is within
+// kScreenSlack (|x_i|^2 + max_u |m_u|^2) of the row's smallest score (a slack
+// thousands of times that bound) is a candidate; the candidates' distances are then
+// computed by the exact loop (the same arithmetic as best_match_squared) and the
+// smallest wins, ties to the lowest unit. The exact loop's minimiser is always a
+// candidate, so the result equals the brute-force search bit for bit.
+constexpr Eigen::Index kQueryBlock = 256;
+constexpr double kScreenSlack = 1e-11;
+
+// |x - m_u|^2 summed over dimensions in order (as best_match_squared's lanes).
+double exact_squared(const double* x, const std::vector<double>& table, std::int32_t stride,
+                     std::int32_t unit, std::int32_t dim) {
+  double sum = 0.0;
+  for (std::int32_t j = 0; j < dim; ++j) {
+    const double diff = x[j] - table[static_cast<std::size_t>(j) * stride + unit];
+    sum += diff * diff;
+  }
+  return sum;
+}
+
+// The prototypes back from the dimension-major table (units x d), and their
+// squared norms.
+struct ScreenTable {
+  RowMatrixXd prototypes;
+  Eigen::VectorXd squared_norms;
+  double max_squared_norm = 0.0;
+};
+
+ScreenTable screen_table(const std::vector<double>& table, std::int32_t units, std::int32_t dim) {
+  const std::int32_t stride = padded_units(units);
+  ScreenTable screen;
+  screen.prototypes.resize(units, dim);
+  for (std::int32_t u = 0; u < units; ++u) {
+    for (std::int32_t j = 0; j < dim; ++j) {
+      screen.prototypes(u, j) = table[static_cast<std::size_t>(j) * stride + u];
+    }
+  }
+  screen.squared_norms = screen.prototypes.rowwise().squaredNorm();
+  screen.max_squared_norm = units > 0 ? screen.squared_norms.maxCoeff() : 0.0;
+  return screen;
+}
+
+// BMU of every row of `points`, in parallel over blocks of rows; each row is
+// independent, so the result does not depend on the partition or the thread count.
 void best_matches_squared(const Eigen::Ref<const RowMatrixXd>& points,
                           const std::vector<double>& table, std::int32_t units,
                           std::span<std::int32_t> out_units, std::span<double> out_squared) {
   const auto dim = static_cast<std::int32_t>(points.cols());
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.rows(), 64),
-                    [&](const tbb::blocked_range<Eigen::Index>& range) {
-                      for (Eigen::Index i = range.begin(); i != range.end(); ++i) {
-                        const SquaredMatch match =
-                            best_match_squared(points.row(i).data(), table, units, dim);
-                        out_units[static_cast<std::size_t>(i)] = match.unit;
-                        out_squared[static_cast<std::size_t>(i)] = match.squared_distance;
-                      }
-                    });
+  const std::int32_t stride = padded_units(units);
+  const ScreenTable screen = screen_table(table, units, dim);
+  const Eigen::Index blocks = (points.rows() + kQueryBlock - 1) / kQueryBlock;
+  tbb::parallel_for(
+      tbb::blocked_range<Eigen::Index>(0, blocks, 1),
+      [&](const tbb::blocked_range<Eigen::Index>& range) {
+        RowMatrixXd scores;
+        for (Eigen::Index block = range.begin(); block != range.end(); ++block) {
+          const Eigen::Index first = block * kQueryBlock;
+          const Eigen::Index count = std::min(kQueryBlock, points.rows() - first);
+          scores.resize(count, units);
+          scores.noalias() = points.middleRows(first, count) * screen.prototypes.transpose();
+          for (Eigen::Index r = 0; r < count; ++r) {
+            const Eigen::Index i = first + r;
+            double* row = scores.row(r).data();
+            double lowest = kInfinity;
+            for (std::int32_t u = 0; u < units; ++u) {
+              row[u] = screen.squared_norms(u) - 2.0 * row[u];
+              lowest = std::min(lowest, row[u]);
+            }
+            const double* x = points.row(i).data();
+            const double limit =
+                lowest + kScreenSlack * (points.row(i).squaredNorm() + screen.max_squared_norm);
+            double best = kInfinity;
+            std::int32_t best_unit = 0;
+            for (std::int32_t u = 0; u < units; ++u) {
+              if (!(row[u] <= limit)) continue;
+              const double exact = exact_squared(x, table, stride, u, dim);
+              if (exact < best) {
+                best = exact;
+                best_unit = u;
+              }
+            }
+            out_units[static_cast<std::size_t>(i)] = best_unit;
+            out_squared[static_cast<std::size_t>(i)] = best;
+          }
+        }
+      });
 }
 
 void check_grid(const char* where, std::int32_t rows, std::int32_t cols) {

@@ -99,6 +99,51 @@ TEST_P(ActionBlockSystemTest, EqualsTheDefinitionForEveryPolicy) {
   }
 }
 
+// update() against the full rebuild: policies that change a few states at a time
+// (rank-r updates), one that changes most (a rebuild, bit for bit as assemble), and
+// policies that empty whole (a_i, b_i) groups (their blocks back to exact zeros).
+TEST_P(ActionBlockSystemTest, UpdateEqualsTheFullRebuild) {
+  RandomStream rng(37, 0, 0);
+  const SparseRowMatrix state_kernels = random_state_kernels(rng);
+  const SampleBatch batch = random_samples(rng, 300);
+  const EmpiricalTransitionModel model(kStates, kActions, batch.states, batch.actions,
+                                       batch.next_states, batch.weights);
+  for (const SparseRowMatrix& features :
+       {copy_basis(state_kernels, kActions), shift_basis(state_kernels, kActions, model)}) {
+    ActionBlockSystem system(features, kActions, batch, GetParam(), 0.9);
+    std::vector<std::int32_t> policy(kStates, 0);
+    Eigen::MatrixXd a, full_a;
+    Eigen::VectorXd b, full_b;
+    std::int32_t updates = 0, rebuilds = 0;
+    for (int trial = 0; trial < 40; ++trial) {
+      if (trial == 20) {  // most states change: a rebuild
+        for (std::int32_t& action : policy) action = (action + 1) % kActions;
+      } else if (trial % 7 == 6) {  // every state to one action: the other groups empty
+        policy.assign(kStates, trial % kActions);
+      } else {
+        for (int change = 0; change < 3; ++change) {
+          policy[rng.uniform_index(kStates)] =
+              static_cast<std::int32_t>(rng.uniform_index(kActions));
+        }
+      }
+      system.update(policy, a, b);
+      system.assemble(policy, full_a, full_b);
+      (system.last_update_rebuilt() ? rebuilds : updates) += 1;
+      if (system.last_update_rebuilt()) {
+        EXPECT_EQ(a, full_a) << "trial " << trial;  // bit for bit
+        EXPECT_EQ(b, full_b) << "trial " << trial;
+      }
+      const double scale = full_a.cwiseAbs().maxCoeff();
+      EXPECT_LT((a - full_a).cwiseAbs().maxCoeff(), 1e-13 * scale) << "trial " << trial;
+      EXPECT_LT((b - full_b).cwiseAbs().maxCoeff(), 1e-13 * scale) << "trial " << trial;
+      const DirectSystem expected = direct_system(features, batch, policy, GetParam(), 0.9);
+      EXPECT_LT((a - expected.a).cwiseAbs().maxCoeff(), 1e-12 * scale) << "trial " << trial;
+    }
+    EXPECT_GT(updates, 20);
+    EXPECT_GE(rebuilds, 2);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Solvers, ActionBlockSystemTest,
                          testing::Values(LspiSolver::brm, LspiSolver::lstdq));
 

@@ -266,5 +266,80 @@ TEST(Lspi, StateValuesAndGreedyPolicyFollowQ) {
   EXPECT_DOUBLE_EQ(v(1), -0.5);
 }
 
+// fit_lspi_copy_basis from the state kernels alone equals fit_lspi on the copy
+// table bit for bit (weights, policy, A, b, history), BRM and LSTD-Q, with
+// truncated (sparse) kernels and enough iterations for rank-r updates.
+TEST(Lspi, CopyBasisFromStateKernelsEqualsTheTable) {
+  constexpr int kStates = 60;
+  RandomStream rng(43, 0, 0);
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int s = 0; s < kStates; ++s) {
+    for (int j = 0; j < 8; ++j) {
+      const double d = std::abs(s - 8.0 * j);
+      if (d < 20.0) entries.emplace_back(s, j, std::exp(-d * d / 50.0));
+    }
+  }
+  SparseRowMatrix state_kernels(kStates, 8);
+  state_kernels.setFromTriplets(entries.begin(), entries.end());
+  const SampleBatch samples = random_chain_walk(kStates, 3000, 17);
+  for (const LspiSolver solver : {LspiSolver::brm, LspiSolver::lstdq}) {
+    LspiOptions options;
+    options.solver = solver;
+    options.ridge = 1e-6;
+    const LspiResult table = fit_lspi(copy_basis(state_kernels, 2), 2, samples, options);
+    const LspiResult kernels = fit_lspi_copy_basis(state_kernels, 2, samples, options);
+    ASSERT_TRUE(table.ok());
+    EXPECT_EQ(kernels.status, table.status);
+    EXPECT_EQ(kernels.weights, table.weights);
+    EXPECT_EQ(kernels.policy, table.policy);
+    EXPECT_EQ(kernels.b, table.b);
+    EXPECT_TRUE(kernels.a.isApprox(table.a, 0.0));
+    EXPECT_EQ(Eigen::MatrixXd(kernels.a), Eigen::MatrixXd(table.a));
+    ASSERT_EQ(kernels.iterations(), table.iterations());
+    for (int i = 0; i < table.iterations(); ++i) {
+      EXPECT_EQ(kernels.history[i].policy_changes, table.history[i].policy_changes);
+      EXPECT_EQ(kernels.history[i].rcond, table.history[i].rcond);
+    }
+  }
+  SampleBatch outside;
+  outside.add(kStates, 0, 0.0, 1, false);  // a state past the kernels' rows
+  EXPECT_THROW(fit_lspi_copy_basis(state_kernels, 2, outside, {}), std::invalid_argument);
+}
+
+// The copy-basis greedy policy reads only action 0's rows but sums the same
+// products in the same order: near-tied Q values (weights equal in all but the last
+// bits, many exact ties) give the same policy as greedy_policy.
+TEST(Lspi, CopyLayoutGreedyPolicyEqualsTheSparseProduct) {
+  RandomStream rng(41, 0, 0);
+  constexpr std::int32_t kStates = 500, kCenters = 9, kActions = 4;
+  std::vector<Eigen::Triplet<double>> entries;
+  for (std::int32_t s = 0; s < kStates; ++s) {
+    for (std::int32_t j = 0; j < kCenters; ++j) {
+      if (rng.uniform() < 0.3) entries.emplace_back(s, j, rng.uniform());
+    }
+  }
+  SparseRowMatrix state_kernels(kStates, kCenters);
+  state_kernels.setFromTriplets(entries.begin(), entries.end());
+  const SparseRowMatrix features = copy_basis(state_kernels, kActions);
+  ASSERT_TRUE(is_copy_layout(features, kActions));
+  for (int trial = 0; trial < 20; ++trial) {
+    Eigen::VectorXd w(kCenters * kActions);
+    for (Eigen::Index j = 0; j < kCenters; ++j) {
+      const double base = rng.uniform(-1, 1);
+      for (std::int32_t a = 0; a < kActions; ++a) {
+        w(a * kCenters + j) = trial % 2 == 0 ? base : base * (1.0 + 1e-15 * static_cast<double>(rng.uniform_index(3)));
+      }
+    }
+    EXPECT_EQ(copy_layout_greedy_policy(features, kActions, w),
+              greedy_policy(features, kActions, w))
+        << "trial " << trial;
+  }
+  // A shift-like table (rows of different actions differ) is not a copy layout.
+  SparseRowMatrix other = features;
+  other.coeffRef(kActions + 1, kCenters) += 1.0;
+  other.makeCompressed();
+  EXPECT_FALSE(is_copy_layout(other, kActions));
+}
+
 }  // namespace
 }  // namespace ggk::kernels

@@ -146,6 +146,39 @@ TEST(SelfOrganizingMap, BestMatchEqualsBruteForceOnRandomData) {
   }
 }
 
+// The batch search screens units with |m|^2 - 2 x.m through the BLAS; near ties
+// below that expansion's rounding (prototypes a few ulps apart, far from the
+// origin) must still go to the unit the exact loop picks. 700 queries span three
+// query blocks.
+TEST(SelfOrganizingMap, BatchSearchSettlesNearTiesExactly) {
+  RandomStream rng(23, 0, 0);
+  for (const double offset : {0.0, 1000.0, 1e6}) {
+    RowMatrixXd prototypes(6 * 10, 8);
+    for (Eigen::Index u = 0; u < prototypes.rows(); ++u) {
+      for (Eigen::Index j = 0; j < 8; ++j) {
+        // Pairs of units 1e-12 (relative) apart around a few base points.
+        const double base = offset + static_cast<double>((u / 2) % 5 * (j + 1));
+        prototypes(u, j) = base * (1.0 + (u % 2 == 0 ? 0.0 : 1e-12 * rng.uniform(-1, 1)));
+      }
+    }
+    const SelfOrganizingMap map(6, 10, prototypes);
+    RowMatrixXd queries(700, 8);
+    for (Eigen::Index i = 0; i < queries.rows(); ++i) {
+      const Eigen::Index u = static_cast<Eigen::Index>(rng.uniform_index(60));
+      for (Eigen::Index j = 0; j < 8; ++j) {
+        queries(i, j) = prototypes(u, j) + (i % 3 == 0 ? 0.0 : 1e-9 * offset * rng.normal());
+      }
+    }
+    const BestMatches batch = map.best_matching_units(queries);
+    for (Eigen::Index i = 0; i < queries.rows(); ++i) {
+      const BestMatch expected = brute_force_bmu(prototypes, queries.row(i).data());
+      const auto k = static_cast<std::size_t>(i);
+      ASSERT_EQ(batch.units[k], expected.unit) << "offset " << offset << " query " << i;
+      ASSERT_EQ(batch.distances[k], expected.distance) << "offset " << offset << " query " << i;
+    }
+  }
+}
+
 TEST(SelfOrganizingMap, TiesGoToTheLowestUnit) {
   // Integer coordinates in {0, 1, 2}: all sums are exact, so equal distances are
   // exact ties; 40 units over 27 points guarantees duplicated prototypes too.
