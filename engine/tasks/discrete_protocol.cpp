@@ -13,6 +13,7 @@
 
 #include "engine/tasks/seeds.hpp"
 #include "kernels/gaussian_kernels.hpp"
+#include "kernels/graph_diagnostics.hpp"
 #include "kernels/shortest_paths.hpp"
 #include "kernels/state_action_basis.hpp"
 #include "kernels/transition_model.hpp"
@@ -199,7 +200,30 @@ struct RunContext {
   kernels::RowMatrixXd center_distances;  // rows: the first centres of `centers`
   std::vector<std::int32_t> nearest;
   std::vector<double> nearest_distance;
+  std::vector<std::int32_t> visited_states;  // in id order
+  // The run's graph diagnostics (kernels/graph_diagnostics.hpp).
+  double edges = 0.0;
+  double median_degree = 0.0;
+  double geodesic_stretch = 0.0;
 };
+
+// kernel_gap of a fit: the mean over the visited states and the fit's centres of
+// |K_GGK - K_OGK| at the fit's width (untruncated).
+double fit_kernel_gap(const RunContext& ctx, std::span<const std::int32_t> centers, double sigma) {
+  const auto& states = ctx.visited_states;
+  const kernels::RowMatrixXd& vectors = ctx.env->state_vectors;
+  std::vector<double> geodesic(states.size()), euclidean(states.size());
+  double sum = 0.0;
+  for (std::size_t j = 0; j < centers.size(); ++j) {
+    for (std::size_t i = 0; i < states.size(); ++i) {
+      geodesic[i] = ctx.center_distances(static_cast<Eigen::Index>(j), states[i]);
+      euclidean[i] = state_distance(vectors, states[i], centers[j]);
+    }
+    sum += kernels::kernel_gap_sum(geodesic, euclidean, sigma);
+  }
+  const double pairs = static_cast<double>(states.size()) * static_cast<double>(centers.size());
+  return pairs > 0.0 ? sum / pairs : kNaN;
+}
 
 // One greedy roll-out: the states visited (start first) and the steps taken to
 // reach a goal, or -1 when none was reached within test_max_steps.
@@ -223,12 +247,17 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   const auto& names = discrete_metric_names();
   // Named starts add success_from_<name> and steps_from_<name>; without a
   // policy (invalid or failed fit) every metric but the graph size is NaN.
+  double kernel_gap = kNaN;
   auto set_metrics = [&](double success, double mean_steps, double iterations,
                          const std::vector<double>& named_steps) {
     fit.metrics = {{names[0], success},
                    {names[1], mean_steps},
                    {names[2], iterations},
-                   {names[3], static_cast<double>(ctx.graph_nodes)}};
+                   {names[3], static_cast<double>(ctx.graph_nodes)},
+                   {names[4], ctx.edges},
+                   {names[5], ctx.median_degree},
+                   {names[6], ctx.geodesic_stretch},
+                   {names[7], kernel_gap}};
     for (std::size_t i = 0; i < ctx.env->named_starts.size(); ++i) {
       const std::string& name = ctx.env->named_starts[i].first;
       const double steps = i < named_steps.size() ? named_steps[i] : kNaN;
@@ -247,6 +276,7 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   }
   const DiscreteEnvironment& env = *ctx.env;
   fit.centers.assign(ctx.centers.begin(), ctx.centers.begin() + point.kernels);
+  kernel_gap = fit_kernel_gap(ctx, fit.centers, point.sigma);
   const double truncation = ctx.job->basis.truncation;
   kernels::SparseRowMatrix state_kernels;
   if (point.basis == KernelType::ggk) {
@@ -379,7 +409,8 @@ RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscretePr
       job.lspi.fold_duplicates ? kernels::fold_duplicate_samples(episodic) : episodic;
   kernels::EmpiricalTransitionModel model(env.num_states, env.num_actions, batch.states,
                                           batch.actions, batch.next_states, batch.weights);
-  RunContext ctx{&env, &protocol, &job, run, std::move(batch), std::move(model), 0, {}, {}, {}, {}};
+  RunContext ctx{&env, &protocol, &job, run, std::move(batch), std::move(model), 0, {}, {}, {}, {},
+                 {},   0.0,       0.0,  0.0};
   ctx.graph_nodes =
       static_cast<std::int32_t>(std::count(visited.begin(), visited.end(), std::uint8_t{1}));
   kernels::RandomStream center_stream = stream_for(job.seed, run, Purpose::centers);
@@ -390,6 +421,13 @@ RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscretePr
                            .first(static_cast<std::size_t>(std::min(max_kernels, ctx.graph_nodes)));
   ctx.center_distances = kernels::geodesic_distances(record.graph, sources);
   nearest_visited_states(env.state_vectors, visited, ctx.nearest, ctx.nearest_distance);
+  for (std::int32_t s = 0; s < env.num_states; ++s) {
+    if (visited[static_cast<std::size_t>(s)]) ctx.visited_states.push_back(s);
+  }
+  ctx.edges = static_cast<double>(kernels::undirected_edge_count(record.graph));
+  ctx.median_degree = kernels::median_degree(record.graph, visited);
+  ctx.geodesic_stretch =
+      kernels::geodesic_stretch(ctx.center_distances, sources, env.state_vectors);
 
   record.fits.resize(points.size());
   tbb::parallel_for(std::size_t{0}, points.size(),
@@ -424,17 +462,19 @@ RunMemoryEstimate estimate_discrete_run(const DiscreteSizes& sizes,
                    std::max(graph_building_bytes(n), after_graph));
   // Per state: its vector (twice: environment and record), start list, visited
   // flags (and as doubles in the record), goal flags, nearest visited state and
-  // distance, centre order, the transition model's row offsets.
+  // distance, centre order, the visited-state list, the transition model's row
+  // offsets.
   estimate.add(
       count_text(states) + " " + sizes.states_are,
-      sizes.simulator_bytes + states * (16.0 * d + 42.0 + 8.0 * m) + graph_bytes(moves, states));
+      sizes.simulator_bytes + states * (16.0 * d + 46.0 + 8.0 * m) + graph_bytes(moves, states));
   estimate.add("the geodesic distances from " + count_text(max_kernels) + " centres to " +
                    count_text(states) + " states",
                max_kernels * states * 8.0);
   estimate.add_per_fit("the kernel and feature tables of a fit with " + count_text(max_kernels) +
                            " kernels (" + count_text(states) + " states x " + count_text(m) +
                            " actions)",
-                       kernel_and_feature_bytes(states, max_kernels, m) + states * (m + 1.0) * 8.0);
+                       // + the kernel gap's two distance rows (states doubles each)
+                       kernel_and_feature_bytes(states, max_kernels, m) + states * (m + 3.0) * 8.0);
   estimate.add_per_fit("the LSPI system of a fit with " + count_text(m) + " x " +
                            count_text(max_kernels) + " basis functions",
                        lspi_bytes(states, max_kernels, m, batch));

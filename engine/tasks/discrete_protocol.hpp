@@ -58,10 +58,17 @@ struct DiscreteProtocol {
 };
 
 // Per-fit metrics of this protocol, in summary-column order; the metrics of the
-// named starts follow them.
+// named starts follow them. The last four are the graph diagnostics of
+// kernels/graph_diagnostics.hpp (engine/tasks/README.md): per run (the same in
+// every fit of a run) the sample graph's `edges`, the `median_degree` of its
+// nodes (the visited states) and the `geodesic_stretch` over the pairs of the
+// run's centres (the first min(largest kernel count of the job, nodes) entries
+// of the centre order: every centre any fit of the run uses); per fit the
+// `kernel_gap` over the visited states and the fit's centres and width.
 inline const std::vector<std::string>& discrete_metric_names() {
-  static const std::vector<std::string> names = {"success_rate", "mean_steps_to_goal",
-                                                 "lspi_iterations", "graph_nodes"};
+  static const std::vector<std::string> names = {
+      "success_rate", "mean_steps_to_goal", "lspi_iterations",  "graph_nodes",
+      "edges",        "median_degree",      "geodesic_stretch", "kernel_gap"};
   return names;
 }
 

@@ -87,13 +87,15 @@ Readings Khepera::sense_noiseless(const Pose& pose) const {
 Readings Khepera::sense(const Pose& pose, kernels::RandomStream& random) const {
   const double c = std::cos(pose.heading);
   const double s = std::sin(pose.heading);
-  const double max_reading = config_.sensors.max_reading;
-  const double noise_sd = config_.sensors.noise_sd;
+  const SensorModel& model = config_.sensors;
+  const bool noisy = draws_noise(model);
   Readings readings;
   for (std::int32_t i = 0; i < kNumSensors; ++i) {
-    double value = noiseless_reading({pose.x, pose.y}, c, s, i);
-    if (noise_sd > 0.0) value += noise_sd * random.normal();
-    readings[static_cast<std::size_t>(i)] = std::clamp(value, 0.0, max_reading);
+    const double value = noiseless_reading({pose.x, pose.y}, c, s, i);
+    // One normal per sensor whatever it sees, so the stream's position never
+    // depends on the geometry.
+    const double z = noisy ? random.normal() : 0.0;
+    readings[static_cast<std::size_t>(i)] = noisy_reading(model, value, z);
   }
   return readings;
 }

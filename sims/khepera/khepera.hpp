@@ -7,7 +7,8 @@
 //
 // One step from pose p with action a, drawing from the caller's stream in this
 // order: the left then the right wheel factor (two uniforms; none when
-// wheel_noise == 0), then one normal per sensor s0..s7 (none when noise_sd == 0).
+// wheel_noise == 0), then one normal per sensor s0..s7 (none when the sensor
+// model's noise level is 0: draws_noise in sensor_model.hpp).
 // The wheels roll command x factor along an exact differential-drive arc; the
 // body is tested at motion.collision_substeps points along it; the first overlap
 // undoes the whole step (next pose = p, collided, reward rewards.collision). The
@@ -64,7 +65,7 @@ class Khepera {
   SensorRays sensor_rays(const Pose& pose, std::int32_t sensor) const;
   // Readings without noise, clamped to [0, max_reading].
   Readings sense_noiseless(const Pose& pose) const;
-  // Readings with Gaussian noise (one normal per sensor), clamped.
+  // Readings with the sensor model's noise (one normal per sensor), clamped.
   Readings sense(const Pose& pose, kernels::RandomStream& random) const;
 
   // One control step from a collision-free `pose`. Throws std::out_of_range for a

@@ -78,6 +78,10 @@ void check_config(const KheperaConfig& config) {
           F::sensor_model, -1, "response c must exceed x0^2 (F would have a pole)");
   require(std::isfinite(model.noise_sd) && model.noise_sd >= 0.0, F::sensor_model, -1,
           "sensor noise sd must be >= 0");
+  require(std::isfinite(model.noise_fraction) && model.noise_fraction >= 0.0, F::sensor_model, -1,
+          "sensor noise fraction must be >= 0");
+  require(std::isfinite(model.detection_threshold) && model.detection_threshold >= 0.0,
+          F::sensor_model, -1, "detection threshold must be >= 0");
   require(std::isfinite(model.max_reading) && model.max_reading > 0.0, F::sensor_model, -1,
           "max reading must be > 0");
 

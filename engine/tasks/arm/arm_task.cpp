@@ -2,6 +2,12 @@
 
 #include "engine/tasks/arm/arm_table.hpp"
 
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "sims/arm/kinematics.hpp"
+
 namespace ggk::engine {
 
 DiscreteEnvironment arm_environment(const sims::arm::Arm& arm) {
@@ -19,6 +25,53 @@ DiscreteEnvironment arm_environment(const sims::arm::Arm& arm) {
     return Transition{r.next_state, r.reward, r.terminal};
   };
   return env;
+}
+
+namespace {
+
+// The pose's base, elbow and end effector, x then y each.
+void push_pose(std::vector<double>& values, const sims::arm::ArmGeometry& geometry,
+               std::int32_t shoulder_deg, std::int32_t elbow_deg) {
+  const sims::arm::ArmPose pose = sims::arm::forward_kinematics(geometry, shoulder_deg, elbow_deg);
+  values.insert(values.end(), {pose.base.x, pose.base.y, pose.elbow.x, pose.elbow.y,
+                               pose.end_effector.x, pose.end_effector.y});
+}
+
+}  // namespace
+
+std::vector<NamedArray> workspace_arrays(const sims::arm::Arm& arm,
+                                         const sims::arm::ArmConfig& config) {
+  const sims::arm::ArmGeometry& g = config.geometry;
+  NamedArray rectangles{"workspace/rectangles", {0, 4}, {}}, discs{"workspace/discs", {0, 3}, {}};
+  for (const sims::arm::Obstacle& obstacle : g.obstacles) {
+    if (const auto* r = std::get_if<sims::arm::Rectangle>(&obstacle)) {
+      rectangles.values.insert(rectangles.values.end(), {r->min.x, r->min.y, r->max.x, r->max.y});
+    } else if (const auto* d = std::get_if<sims::arm::Disc>(&obstacle)) {
+      discs.values.insert(discs.values.end(), {d->center.x, d->center.y, d->radius});
+    }
+  }
+  rectangles.shape[0] = static_cast<std::int64_t>(rectangles.values.size() / 4);
+  discs.shape[0] = static_cast<std::int64_t>(discs.values.size() / 3);
+  NamedArray object{
+      "workspace/object", {3}, {g.object.center.x, g.object.center.y, g.object.radius}};
+  NamedArray pose_a{"workspace/pose_A", {3, 2}, {}};
+  push_pose(pose_a.values, g, config.start_A.shoulder_deg, config.start_A.elbow_deg);
+  NamedArray angles_a{"workspace/pose_A_deg",
+                      {2},
+                      {static_cast<double>(config.start_A.shoulder_deg),
+                       static_cast<double>(config.start_A.elbow_deg)}};
+  NamedArray goals{"workspace/goal_poses", {0, 6}, {}};
+  NamedArray goal_angles{"workspace/goal_poses_deg", {0, 2}, {}};
+  for (std::int32_t s : arm.goal_states()) {
+    const sims::arm::JointAngles angles = arm.angles_of(s);
+    push_pose(goals.values, g, angles.shoulder_deg, angles.elbow_deg);
+    goal_angles.values.insert(goal_angles.values.end(), {static_cast<double>(angles.shoulder_deg),
+                                                         static_cast<double>(angles.elbow_deg)});
+  }
+  goals.shape[0] = static_cast<std::int64_t>(arm.goal_states().size());
+  goal_angles.shape[0] = goals.shape[0];
+  return {std::move(rectangles), std::move(discs), std::move(object),     std::move(pose_a),
+          std::move(angles_a),   std::move(goals), std::move(goal_angles)};
 }
 
 RunRecord run_arm(const sims::arm::ArmConfig& config, const JobSpec& job, std::int32_t run,
@@ -44,6 +97,7 @@ RunRecord run_arm(const sims::arm::ArmConfig& config, const JobSpec& job, std::i
   }
   record.arrays.push_back(std::move(state_of));
   record.arrays.push_back(std::move(goal));
+  for (NamedArray& array : workspace_arrays(arm, config)) record.arrays.push_back(std::move(array));
   return record;
 }
 
@@ -62,8 +116,13 @@ RunMemoryEstimate estimate_arm_run(const sims::arm::ArmConfig& config, const Job
   RunMemoryEstimate estimate = estimate_discrete_run(sizes, protocol, job);
   // grid/state_of and grid/goal in the record (doubles, grown by doubling).
   const double grid = 2.0 * 2.0 * 8.0 * cells;
+  // The workspace arrays for Fig. 1(a): obstacles, object, pose A, the goals'
+  // poses (6 + 2 doubles each).
+  const double workspace = (static_cast<double>(config.geometry.obstacles.size()) * 4.0 + 17.0 +
+                            static_cast<double>(arm.goal_states().size()) * 8.0) *
+                           8.0;
   estimate.add("the joint grid (" + count_text(cells) + " poses)", grid);
-  estimate.record_bytes += grid;
+  estimate.record_bytes += grid + workspace;
   return estimate;
 }
 

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "engine/job/job_spec.hpp"
 #include "engine/job/run_record.hpp"
@@ -22,6 +23,16 @@ DiscreteEnvironment arm_environment(const sims::arm::Arm& arm);
 // the figures.
 RunRecord run_arm(const sims::arm::ArmConfig& config, const JobSpec& job, std::int32_t run,
                   std::span<const SweepPoint> points);
+
+// The workspace for Fig. 1(a) (results/plot_arm_workspace.py), stored with every
+// run: workspace/rectangles [n, 4] (min x, min y, max x, max y),
+// workspace/discs [n, 3] (centre, radius), workspace/object [3] (centre,
+// radius), workspace/pose_A [3, 2] (base, elbow, end effector at A),
+// workspace/pose_A_deg [2], workspace/goal_poses [goals, 6] (base, elbow, end
+// effector, x then y each) and workspace/goal_poses_deg [goals, 2] (shoulder,
+// elbow), goals in id order. (The store keeps 1-D and 2-D arrays.)
+std::vector<NamedArray> workspace_arrays(const sims::arm::Arm& arm,
+                                         const sims::arm::ArmConfig& config);
 
 // The peak memory of one run (estimate_discrete_run with the arm's free poses,
 // plus the joint grid stored with the run).

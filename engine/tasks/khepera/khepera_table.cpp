@@ -38,8 +38,10 @@ constexpr std::array<std::string_view, 4> kRotatedRectangleKeys = {"kind", "cent
                                                                    "angle_deg"};
 constexpr std::array<std::string_view, 3> kDiscKeys = {"kind", "center", "radius"};
 constexpr std::array<std::string_view, 3> kRobotKeys = {"radius", "wheel_base", "sensors"};
-constexpr std::array<std::string_view, 7> kSensorModelKeys = {
-    "range", "side_ray_deg", "response_m", "response_x0", "response_c", "noise_sd", "max_reading"};
+constexpr std::array<std::string_view, 10> kSensorModelKeys = {
+    "range",       "side_ray_deg", "response_m",     "response_x0",         "response_c",
+    "noise_model", "noise_sd",     "noise_fraction", "detection_threshold", "max_reading"};
+constexpr std::array<std::string_view, 3> kNoiseModels = {"proportional", "threshold", "additive"};
 constexpr std::array<std::string_view, 4> kMotionKeys = {"step_cm", "turn_deg", "wheel_noise",
                                                          "collision_substeps"};
 constexpr std::array<std::string_view, 2> kRewardKeys = {"forward", "collision"};
@@ -250,7 +252,29 @@ khepera::SensorModel parse_sensor_model(const TomlTableReader& table) {
   model.response_m = table.number("response_m", NumberRange::above(0.0), model.response_m);
   model.response_x0 = table.number("response_x0", NumberRange{}, model.response_x0);
   model.response_c = table.number("response_c", NumberRange{}, model.response_c);
+  // Each noise model takes its own level keys; a key of another model is an
+  // error rather than silently unused (sims/khepera/sensor_model.hpp).
+  const std::string noise = table.choice("noise_model", kNoiseModels, "proportional");
+  model.noise_model = noise == "threshold"  ? khepera::SensorNoiseModel::threshold
+                      : noise == "additive" ? khepera::SensorNoiseModel::additive
+                                            : khepera::SensorNoiseModel::proportional;
+  const std::string chosen =
+      "noise_model is \"" + noise + "\"" + (table.has("noise_model") ? "" : " (the default)");
+  if (noise != "proportional" && table.has("noise_fraction")) {
+    table.fail("noise_fraction", "applies only to noise_model = \"proportional\"; " + chosen);
+  }
+  if (noise == "proportional" && table.has("noise_sd")) {
+    table.fail("noise_sd",
+               "applies only to noise_model = \"threshold\" or \"additive\"; " + chosen);
+  }
+  if (noise != "threshold" && table.has("detection_threshold")) {
+    table.fail("detection_threshold", "applies only to noise_model = \"threshold\"; " + chosen);
+  }
+  model.noise_fraction =
+      table.number("noise_fraction", NumberRange::at_least(0.0), model.noise_fraction);
   model.noise_sd = table.number("noise_sd", NumberRange::at_least(0.0), model.noise_sd);
+  model.detection_threshold =
+      table.number("detection_threshold", NumberRange::at_least(0.0), model.detection_threshold);
   model.max_reading = table.number("max_reading", NumberRange::above(0.0), model.max_reading);
   return model;
 }

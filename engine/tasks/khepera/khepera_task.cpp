@@ -3,16 +3,20 @@
 #include "engine/tasks/khepera/khepera_table.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <utility>
+#include <variant>
 
 #include <tbb/parallel_for.h>
 
 #include "engine/tasks/seeds.hpp"
 #include "kernels/gaussian_kernels.hpp"
+#include "kernels/graph_diagnostics.hpp"
 #include "kernels/lspi.hpp"
 #include "kernels/shortest_paths.hpp"
 #include "kernels/state_action_basis.hpp"
@@ -72,7 +76,33 @@ struct RunContext {
   std::vector<std::uint8_t> occupied;     // per unit: the best match of some sample
   kernels::SampleBatch batch;             // the walks' samples, folded if the job asks
   std::unique_ptr<kernels::EmpiricalTransitionModel> model;  // for the shift scheme
+  // The run's graph diagnostics (kernels/graph_diagnostics.hpp).
+  double edges = 0.0;
+  double median_degree = 0.0;
+  double geodesic_stretch = 0.0;
 };
+
+// kernel_gap of a fit: the mean over the walks' readings and the fit's centres of
+// |K_GGK - K_OGK| at the fit's width (untruncated), GGK in the continuous form
+// the fit's kernel table uses.
+double fit_kernel_gap(const RunContext& ctx, std::span<const std::int32_t> centers, double sigma) {
+  const kernels::RowMatrixXd& readings = ctx.walks->readings;
+  const auto n = static_cast<std::size_t>(readings.rows());
+  std::vector<double> geodesic(n), euclidean(n);
+  double sum = 0.0;
+  for (std::size_t j = 0; j < centers.size(); ++j) {
+    const auto center = ctx.som->prototypes().row(centers[j]);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto row = static_cast<Eigen::Index>(i);
+      geodesic[i] = ctx.state_units.distances[i] +
+                    ctx.center_distances(static_cast<Eigen::Index>(j), ctx.state_units.units[i]);
+      euclidean[i] = (readings.row(row) - center).norm();
+    }
+    sum += kernels::kernel_gap_sum(geodesic, euclidean, sigma);
+  }
+  const double pairs = static_cast<double>(n) * static_cast<double>(centers.size());
+  return pairs > 0.0 ? sum / pairs : kNaN;
+}
 
 // K(s, c_j) of a fit for one reading, with the same arithmetic as the batch
 // kernel functions (so a state's features equal its row of the table).
@@ -155,12 +185,17 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   FitRecord fit;
   fit.point = point;
   const auto& names = khepera_metric_names();
+  double kernel_gap = kNaN;
   auto set_metrics = [&](double mean_return, double collision_fraction, double mean_steps) {
     fit.metrics = {{names[0], mean_return},
                    {names[1], collision_fraction},
                    {names[2], mean_steps},
                    {names[3], static_cast<double>(fit.lspi.iterations())},
-                   {names[4], static_cast<double>(ctx.graph_nodes)}};
+                   {names[4], static_cast<double>(ctx.graph_nodes)},
+                   {names[5], ctx.edges},
+                   {names[6], ctx.median_degree},
+                   {names[7], ctx.geodesic_stretch},
+                   {names[8], kernel_gap}};
   };
   if (point.kernels > ctx.graph_nodes) {
     fit.status = "invalid";
@@ -171,6 +206,7 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
     return fit;
   }
   fit.centers.assign(ctx.centers.begin(), ctx.centers.begin() + point.kernels);
+  kernel_gap = fit_kernel_gap(ctx, fit.centers, point.sigma);
   const double truncation = ctx.job->basis.truncation;
 
   // State kernels of every reading of the walks.
@@ -252,6 +288,73 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   return fit;
 }
 
+// The arena, the robot and its sensors' rays at the start pose, for Fig. 4(a)
+// (results/plot_khepera_arena.py): arena/box [min x, min y, max x, max y,
+// walled], arena/segments [n, 4] (a, b), arena/rectangles [n, 4] (min, max),
+// arena/rotated_rectangles [n, 5] (centre, width, height, angle_deg),
+// arena/discs [n, 3] (centre, radius), arena/start [x, y, heading (rad)],
+// robot/radius, robot/sensors [8, 3] (x, y, heading_deg in the robot frame),
+// robot/start_rays [24, 5] (row 3 i + k: sensor i's left, centre, right ray for
+// k = 0, 1, 2: origin, end (the hit, or the range's end), 1 if it hit within
+// range; the store keeps 1-D and 2-D arrays) and
+// robot/start_readings [8] (noiseless).
+std::vector<NamedArray> arena_arrays(const khepera::Khepera& robot) {
+  const auto& c = robot.config();
+  const khepera::Arena& arena = c.arena;
+  NamedArray box{"arena/box",
+                 {5},
+                 {arena.min.x, arena.min.y, arena.max.x, arena.max.y, arena.walled ? 1.0 : 0.0}};
+  NamedArray segments{"arena/segments", {0, 4}, {}}, rectangles{"arena/rectangles", {0, 4}, {}};
+  NamedArray rotated{"arena/rotated_rectangles", {0, 5}, {}}, discs{"arena/discs", {0, 3}, {}};
+  for (const khepera::Shape& shape : arena.obstacles) {
+    if (const auto* g = std::get_if<khepera::Segment>(&shape)) {
+      segments.values.insert(segments.values.end(), {g->a.x, g->a.y, g->b.x, g->b.y});
+    } else if (const auto* r = std::get_if<khepera::Rectangle>(&shape)) {
+      rectangles.values.insert(rectangles.values.end(), {r->min.x, r->min.y, r->max.x, r->max.y});
+    } else if (const auto* q = std::get_if<khepera::RotatedRectangle>(&shape)) {
+      rotated.values.insert(rotated.values.end(),
+                            {q->center.x, q->center.y, q->width, q->height, q->angle_deg});
+    } else if (const auto* d = std::get_if<khepera::Disc>(&shape)) {
+      discs.values.insert(discs.values.end(), {d->center.x, d->center.y, d->radius});
+    }
+  }
+  segments.shape[0] = static_cast<std::int64_t>(segments.values.size() / 4);
+  rectangles.shape[0] = static_cast<std::int64_t>(rectangles.values.size() / 4);
+  rotated.shape[0] = static_cast<std::int64_t>(rotated.values.size() / 5);
+  discs.shape[0] = static_cast<std::int64_t>(discs.values.size() / 3);
+  const khepera::Pose start = robot.start_pose();
+  NamedArray start_pose{"arena/start", {3}, {start.x, start.y, start.heading}};
+  NamedArray radius{"robot/radius", {1}, {c.body.radius}};
+  NamedArray sensors{"robot/sensors", {khepera::kNumSensors, 3}, {}};
+  NamedArray rays{"robot/start_rays", {3 * khepera::kNumSensors, 5}, {}};
+  const double range = c.sensors.range;
+  const double side = khepera::degrees_to_radians(c.sensors.side_ray_deg);
+  const double ch = std::cos(start.heading), sh = std::sin(start.heading);
+  for (std::int32_t i = 0; i < khepera::kNumSensors; ++i) {
+    const khepera::IrSensor& mount = c.body.sensors[static_cast<std::size_t>(i)];
+    sensors.values.insert(sensors.values.end(), {mount.x, mount.y, mount.heading_deg});
+    const double ox = start.x + ch * mount.x - sh * mount.y;
+    const double oy = start.y + sh * mount.x + ch * mount.y;
+    const khepera::SensorRays hit = robot.sensor_rays(start, i);
+    const double heading = start.heading + khepera::degrees_to_radians(mount.heading_deg);
+    const std::array<std::pair<double, double>, 3> fan = {
+        {{heading + side, hit.left}, {heading, hit.centre}, {heading - side, hit.right}}};
+    for (const auto& [angle, distance] : fan) {
+      const bool seen = distance <= range;
+      const double length = seen ? distance : range;
+      rays.values.insert(rays.values.end(), {ox, oy, ox + length * std::cos(angle),
+                                             oy + length * std::sin(angle), seen ? 1.0 : 0.0});
+    }
+  }
+  const khepera::Readings clean = robot.sense_noiseless(start);
+  NamedArray readings{"robot/start_readings",
+                      {khepera::kNumSensors},
+                      std::vector<double>(clean.begin(), clean.end())};
+  return {std::move(box),   std::move(segments),   std::move(rectangles), std::move(rotated),
+          std::move(discs), std::move(start_pose), std::move(radius),     std::move(sensors),
+          std::move(rays),  std::move(readings)};
+}
+
 }  // namespace
 
 RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::int32_t run,
@@ -274,6 +377,7 @@ RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::
     record.samples.observations.row(row) = walks.readings.row(batch.states[i]);
     record.samples.next_observations.row(row) = walks.readings.row(batch.next_states[i]);
   }
+  for (NamedArray& array : arena_arrays(robot)) record.arrays.push_back(std::move(array));
   record.arrays.push_back({"samples/collisions",
                            {static_cast<std::int64_t>(walks.collisions.size())},
                            walks.collisions});
@@ -339,9 +443,12 @@ RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::
   kernels::shuffle(ctx.centers, center_stream);
   std::int32_t max_kernels = 0;
   for (const SweepPoint& p : points) max_kernels = std::max(max_kernels, p.kernels);
-  ctx.center_distances = kernels::geodesic_distances(
-      record.graph, std::span<const std::int32_t>(ctx.centers)
-                        .first(static_cast<std::size_t>(std::min(max_kernels, ctx.graph_nodes))));
+  const auto sources = std::span<const std::int32_t>(ctx.centers)
+                           .first(static_cast<std::size_t>(std::min(max_kernels, ctx.graph_nodes)));
+  ctx.center_distances = kernels::geodesic_distances(record.graph, sources);
+  ctx.edges = static_cast<double>(kernels::undirected_edge_count(record.graph));
+  ctx.median_degree = kernels::median_degree(record.graph, occupied);
+  ctx.geodesic_stretch = kernels::geodesic_stretch(ctx.center_distances, sources, prototypes);
   if (job.basis.scheme == kernels::BasisScheme::shift) {
     ctx.model = std::make_unique<kernels::EmpiricalTransitionModel>(
         static_cast<std::int32_t>(walks.readings.rows()), robot.num_actions(), batch.states,
@@ -396,7 +503,8 @@ RunMemoryEstimate estimate_khepera_run(const KheperaTaskConfig& config, const Jo
   estimate.add_per_fit("the kernel and feature tables of a fit with " + count_text(max_kernels) +
                            " kernels (" + count_text(readings) + " readings x " + count_text(m) +
                            " actions)",
-                       kernel_and_feature_bytes(readings, max_kernels, m));
+                       // + the kernel gap's two distance rows (a double per reading each)
+                       kernel_and_feature_bytes(readings, max_kernels, m) + readings * 16.0);
   estimate.add_per_fit("the LSPI system of a fit with " + count_text(m) + " x " +
                            count_text(max_kernels) + " basis functions",
                        lspi_bytes(readings, max_kernels, m, n));
@@ -411,8 +519,12 @@ RunMemoryEstimate estimate_khepera_run(const KheperaTaskConfig& config, const Jo
             episodes + units * 8.0;
   }
   estimate.add("the results of " + count_text(static_cast<double>(points.size())) + " fits", fits);
-  estimate.record_bytes =
-      record_samples + readings * 8.0 + units * (80.0 + 64.0 + 8.0) + graph_bytes(n, units) + fits;
+  // The arena's arrays for Fig. 4(a): 5 doubles an obstacle at most, and the
+  // robot's 8 sensors (3 numbers, 3 rays of 5, a reading).
+  const double arena =
+      (static_cast<double>(c.arena.obstacles.size()) * 5.0 + 8.0 * 19.0 + 9.0) * 8.0;
+  estimate.record_bytes = record_samples + readings * 8.0 + units * (80.0 + 64.0 + 8.0) +
+                          graph_bytes(n, units) + fits + arena;
   return estimate;
 }
 

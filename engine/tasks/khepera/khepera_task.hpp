@@ -24,9 +24,19 @@
 namespace ggk::engine {
 
 // Per-fit metrics, in summary-column order.
+// The last four are the graph diagnostics of kernels/graph_diagnostics.hpp
+// (engine/tasks/README.md): per run (the same in every fit of a run) the unit
+// graph's `edges`, the `median_degree` of its nodes (the occupied units) and the
+// `geodesic_stretch` over the pairs of the run's centres (the first
+// min(largest kernel count of the job, occupied units) units of the centre
+// order: every centre any fit of the run uses), SP over the unit graph and ED
+// between the units' prototypes; per fit the `kernel_gap` over every reading of
+// the walks and the fit's centres and width, GGK in its continuous form
+// ED(s, n(s)) + SP(n(s), c) with n(s) the reading's best-matching unit.
 inline const std::vector<std::string>& khepera_metric_names() {
-  static const std::vector<std::string> names = {"mean_return", "collision_fraction", "mean_steps",
-                                                 "lspi_iterations", "graph_nodes"};
+  static const std::vector<std::string> names = {
+      "mean_return", "collision_fraction", "mean_steps",       "lspi_iterations", "graph_nodes",
+      "edges",       "median_degree",      "geodesic_stretch", "kernel_gap"};
   return names;
 }
 

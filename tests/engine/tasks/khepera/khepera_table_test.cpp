@@ -206,7 +206,9 @@ side_ray_deg = 10
 response_m = 1000.0
 response_x0 = -1.0
 response_c = 6.5
+noise_model = "threshold"
 noise_sd = 0
+detection_threshold = 30
 max_reading = 1000.0
 [khepera.motion]
 step_cm = 1.0
@@ -226,7 +228,9 @@ collision = -5)");
   EXPECT_EQ(c.simulator.body.wheel_base, 5.0);
   EXPECT_EQ(c.simulator.body.sensors[0], (khepera::IrSensor{1.0, 1.5, 90.0}));
   EXPECT_EQ(c.simulator.body.sensors[7], (khepera::IrSensor{-2.0, 1.0, 170.0}));
-  EXPECT_EQ(c.simulator.sensors, (khepera::SensorModel{8.0, 10.0, 1000.0, -1.0, 6.5, 0.0, 1000.0}));
+  EXPECT_EQ(c.simulator.sensors,
+            (khepera::SensorModel{8.0, 10.0, 1000.0, -1.0, 6.5,
+                                  khepera::SensorNoiseModel::threshold, 0.04, 0.0, 30.0, 1000.0}));
   EXPECT_EQ(c.simulator.motion, (khepera::MotionModel{1.0, 30.0, 0.0, 8}));
   EXPECT_EQ(c.simulator.rewards, (khepera::Rewards{2.0, -5.0}));
   EXPECT_EQ(c.som.rows, 4);
@@ -424,8 +428,29 @@ std::vector<MalformedKhepera> malformed_tables() {
        {"bad.toml:37:1: [khepera.sensors] side_ray_deg: expected a number in [0.0, 90.0), got "
         "90"}},
       {"negative noise",
-       job + "[khepera.sensors]\nnoise_sd = -1\n",
-       {"bad.toml:37:1: [khepera.sensors] noise_sd: expected a number >= 0.0, got -1"}},
+       job + "[khepera.sensors]\nnoise_model = \"additive\"\nnoise_sd = -1\n",
+       {"bad.toml:38:1: [khepera.sensors] noise_sd: expected a number >= 0.0, got -1"}},
+      {"negative noise fraction",
+       job + "[khepera.sensors]\nnoise_fraction = -0.1\n",
+       {"bad.toml:37:1: [khepera.sensors] noise_fraction: expected a number >= 0.0, got -0.1"}},
+      {"unknown noise model",
+       job + "[khepera.sensors]\nnoise_model = \"proportionnal\"\n",
+       {"bad.toml:37:1: [khepera.sensors] noise_model:"}},
+      {"noise sd under the default proportional model",
+       job + "[khepera.sensors]\nnoise_sd = 20\n",
+       {"bad.toml:37:1: [khepera.sensors] noise_sd: applies only to noise_model = \"threshold\" "
+        "or \"additive\"; noise_model is \"proportional\" (the default)"}},
+      {"noise fraction under the additive model",
+       job + "[khepera.sensors]\nnoise_model = \"additive\"\nnoise_fraction = 0.1\n",
+       {"bad.toml:38:1: [khepera.sensors] noise_fraction: applies only to noise_model = "
+        "\"proportional\"; noise_model is \"additive\""}},
+      {"detection threshold without the threshold model",
+       job + "[khepera.sensors]\nnoise_model = \"additive\"\ndetection_threshold = 60\n",
+       {"bad.toml:38:1: [khepera.sensors] detection_threshold: applies only to noise_model = "
+        "\"threshold\"; noise_model is \"additive\""}},
+      {"negative detection threshold",
+       job + "[khepera.sensors]\nnoise_model = \"threshold\"\ndetection_threshold = -1\n",
+       {"bad.toml:38:1: [khepera.sensors] detection_threshold: expected a number >= 0.0, got -1"}},
       {"half-turn rotations",
        job + "[khepera.motion]\nturn_deg = 180\n",
        {"bad.toml:37:1: [khepera.motion] turn_deg: expected a number in (0.0, 180.0), got 180"}},
