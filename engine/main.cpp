@@ -10,15 +10,19 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "engine/job/job_error.hpp"
 #include "engine/job/job_file.hpp"
+#include "engine/job/spelling.hpp"
 #include "engine/job/sweep.hpp"
+#include "engine/job/usage_error.hpp"
 #include "engine/run/job_runner.hpp"
 #include "engine/run/memory_check.hpp"
+#include "engine/run/open_results.hpp"
 #include "engine/store/results_diff.hpp"
 #include "engine/store/results_info.hpp"
 #include "engine/store/results_merge.hpp"
@@ -33,17 +37,25 @@ namespace {
 namespace engine = ggk::engine;
 constexpr int kUserError = 2;
 
-int run_command(const std::string& job_path, const engine::RunOptions& options) {
+int run_command(const std::string& job_path, const engine::RunOptions& options,
+                const std::vector<std::string>& overrides) {
   engine::JobLoadOptions load;
   load.check_output = options.output.empty();  // -o replaces the job's output
+  load.overrides = overrides;
   const engine::JobSpec job = engine::load_job_file(job_path, engine::task_tables(), load);
   const engine::RunSummary summary = engine::run_job(job, options);
   engine::print_run_summary(job, summary);
   return 0;
 }
 
-int validate_command(const std::string& job_path) {
-  const engine::JobSpec job = engine::load_job_file(job_path, engine::task_tables());
+int validate_command(const std::string& job_path, const std::string& output,
+                     const std::vector<std::string>& overrides) {
+  // Checks what `ggk run` with the same arguments would: the job file, the
+  // overrides, and the output (-o, else the job's, relative to this directory).
+  engine::JobLoadOptions load;
+  load.overrides = overrides;
+  if (!output.empty()) load.output_file = output;
+  const engine::JobSpec job = engine::load_job_file(job_path, engine::task_tables(), load);
   const engine::JobMemoryEstimate memory = engine::estimate_job_memory(job, 1, 1);
   std::printf("%s: ok (task %s, %d runs x %zu sweep points); about %s of memory per run\n",
               job_path.c_str(), job.task.c_str(), job.runs, engine::expand_sweep(job).size(),
@@ -69,6 +81,59 @@ engine::RunRange parse_run_range(const std::string& text) {
   }
 }
 
+// "Did you mean": CLI11 says only that an argument was not expected. Looks at
+// the command line before CLI11 does: an unknown command, or an option the
+// command does not have, is a UsageError naming the closest spelling.
+void check_spelling(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2) return;
+  const std::string first = argv[1];
+  std::vector<std::string> names;
+  const CLI::App* command = nullptr;
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    names.push_back(sub->get_name());
+    if (sub->get_name() == first) command = sub;
+  }
+  const auto suggestion = [](const std::string& word, const std::vector<std::string>& candidates) {
+    const std::vector<std::string_view> views(candidates.begin(), candidates.end());
+    const auto closest = engine::closest_spelling(word, views);
+    return closest ? " (did you mean '" + std::string(*closest) + "'?)" : std::string();
+  };
+  if (first.empty() || first[0] != '-') {
+    if (command == nullptr) {
+      std::string list;
+      for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+      throw engine::UsageError("unknown command '" + first + "'" + suggestion(first, names) +
+                               "; the commands: " + list + " (ggk --help)");
+    }
+  } else {
+    return;  // --help, --version: CLI11's
+  }
+  std::vector<std::string> options;
+  std::vector<const CLI::Option*> takes_value;
+  for (const CLI::Option* option : command->get_options()) {
+    for (const std::string& name : option->get_lnames()) options.push_back("--" + name);
+    for (const std::string& name : option->get_snames()) options.push_back("-" + name);
+  }
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--") return;
+    if (arg.size() < 2 || arg[0] != '-' || (arg[1] >= '0' && arg[1] <= '9')) continue;
+    const std::string name = arg.substr(0, arg.find('='));
+    const bool is_long = arg.rfind("--", 0) == 0;
+    const std::string key = is_long ? name : arg.substr(0, 2);
+    const CLI::Option* option = command->get_option_no_throw(key);
+    if (option == nullptr) {
+      throw engine::UsageError("unknown option '" + name + "' for 'ggk " + first + "'" +
+                               suggestion(name, options) + " (ggk " + first + " --help)");
+    }
+    // Skip the option's value, which may start with '-'.
+    if (option->get_items_expected_min() > 0 && arg.find('=') == std::string::npos &&
+        (is_long || arg.size() == 2)) {
+      ++i;
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -85,16 +150,24 @@ int main(int argc, char** argv) {
 
   CLI::App app{"ggk: least-squares policy iteration with geodesic Gaussian kernels"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "ggk " + engine::ggk_version_text());
 
   std::string job_path, info_path, runs_text;
   engine::RunOptions options;
   std::string output;
+  std::vector<std::string> overrides;
+  const char* set_help =
+      "KEY=VALUE: override a job key (e.g. --set runs=5 --set khepera.motion.turn_deg=30); "
+      "validated like the file, recorded in the results";
   double rank_timeout = 60.0;
   CLI::App* run = app.add_subcommand("run", "Run a sweep job file, writing one HDF5 file");
   run->add_option("job", job_path, "job file (TOML)")->required();
   run->add_option("-j,--threads", options.threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
-  run->add_option("-o,--output", output, "results file (default: the job's [output] file)");
+  run->add_option("-o,--output", output, "results file, *.h5 (default: the job's [output] file)");
+  run->add_option("--set", overrides, set_help)
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   run->add_flag("--resume", options.resume, "continue an interrupted run of the same job");
   run->add_flag("--overwrite", options.overwrite, "replace an existing results file");
   run->add_flag("-q,--quiet", options.quiet, "no progress output");
@@ -108,9 +181,16 @@ int main(int argc, char** argv) {
 
   CLI::App* validate = app.add_subcommand("validate", "Check a job file and exit");
   validate->add_option("job", job_path, "job file (TOML)")->required();
+  validate->add_option("-o,--output", output, "the results file `ggk run -o` would write");
+  validate->add_option("--set", overrides, set_help)
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 
+  bool info_csv = false;
   CLI::App* info = app.add_subcommand("info", "Describe a results file");
   info->add_option("file", info_path, "results file (HDF5)")->required();
+  info->add_flag("--csv", info_csv,
+                 "print the per-sweep-point summary as CSV (means and 95 % CI bounds)");
 
   std::string verify_path;
   CLI::App* verify = app.add_subcommand(
@@ -133,6 +213,12 @@ int main(int argc, char** argv) {
                   "merge even when runs are missing (ggk run --resume computes them)");
 
   try {
+    check_spelling(app, argc, argv);
+  } catch (const engine::UsageError& e) {
+    if (!quiet_rank) std::fprintf(stderr, "ggk: error: %s\n", e.what());
+    return kUserError;
+  }
+  try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int status = quiet_rank ? (e.get_exit_code() == 0 ? 0 : kUserError) : app.exit(e);
@@ -151,21 +237,26 @@ int main(int argc, char** argv) {
         engine::MpiRunOptions mpi_options;
         mpi_options.run = options;
         mpi_options.load.check_output = options.output.empty();
+        mpi_options.load.overrides = overrides;
         mpi_options.rank_timeout_seconds = rank_timeout;
         return engine::run_job_over_mpi(*mpi, job_path, mpi_options);
       }
 #endif
-      return run_command(job_path, options);
+      return run_command(job_path, options, overrides);
     }
     if (quiet_rank) return 0;  // the other commands run on rank 0 alone
-    if (*validate) return validate_command(job_path);
+    if (*validate) return validate_command(job_path, output, overrides);
     if (*info) {
-      engine::print_results_info(info_path, std::cout);
+      engine::print_results_info(info_path, std::cout,
+                                 info_csv ? engine::InfoFormat::kCsv : engine::InfoFormat::kText);
       return 0;
     }
     if (*verify) return engine::verify_results(verify_path, std::cout) ? 0 : 1;
     if (*diff) return engine::diff_results(diff_files[0], diff_files[1], std::cout) ? 0 : 1;
     if (*merge) {
+      if (auto problem = engine::results_extension_problem(merge_output)) {
+        throw engine::UsageError("merge output: " + *problem);
+      }
       std::vector<std::filesystem::path> shards(merge_inputs.begin(), merge_inputs.end());
       engine::merge_results(merge_output, shards, merge_options, std::cerr);
       return 0;

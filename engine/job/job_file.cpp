@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 #include <span>
+#include <sstream>
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
@@ -120,7 +121,14 @@ std::optional<std::string> output_file_problem(const std::filesystem::path& file
   std::error_code error;
   const auto directory_status = std::filesystem::status(directory, error);
   if (!std::filesystem::exists(directory_status)) {
-    return "directory " + shown_directory + " of " + shown + " does not exist";
+    std::string where;
+    if (directory.is_relative()) {
+      std::error_code cwd_error;
+      where = " (an output file is relative to the working directory, " +
+              single_quoted(shortened(std::filesystem::current_path(cwd_error).string())) +
+              ", not to the job file: run from the folder that holds it, or pass -o)";
+    }
+    return "directory " + shown_directory + " of " + shown + " does not exist" + where;
   }
   if (!std::filesystem::is_directory(directory_status)) {
     return shown_directory + " in " + shown + " is not a directory";
@@ -134,7 +142,7 @@ std::optional<std::string> output_file_problem(const std::filesystem::path& file
   if (std::filesystem::exists(file_status) && ::access(file.c_str(), W_OK) != 0) {
     return shown + " exists and is not writable (" + std::strerror(errno) + ")";
   }
-  return std::nullopt;
+  return results_extension_problem(file);
 }
 
 OutputSettings parse_output(const TomlTableReader& job, const std::string& job_name,
@@ -175,7 +183,63 @@ std::vector<std::string_view> top_level_keys(std::span<const TaskTable> tasks) {
   return keys;
 }
 
+// Copies every key of `from` into `into`: a table into a table merges, anything
+// else replaces. Keys and values keep their source (the --set option).
+void merge_table(toml::table& into, const toml::table& from) {
+  for (const auto& [key, node] : from) {
+    toml::node* existing = into.get(key.str());
+    if (node.is_table() && existing != nullptr && existing->is_table()) {
+      merge_table(*existing->as_table(), *node.as_table());
+      continue;
+    }
+    into.erase(key.str());
+    node.visit([&](const auto& value) { into.insert(key, value); });
+  }
+}
+
+std::string toml_literal(std::string_view text) {
+  std::string quoted = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') quoted += '\\';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+void apply_override(toml::table& root, const std::string& text) {
+  const std::string source = "--set " + shortened(text);
+  const std::size_t equals = text.find('=');
+  if (equals == std::string::npos || equals == 0) {
+    throw JobError(source, {}, "",
+                   "expected KEY=VALUE, e.g. --set runs=5 or --set khepera.motion.turn_deg=30");
+  }
+  const std::string key = text.substr(0, equals);
+  const std::string value = text.substr(equals + 1);
+  toml::table snippet;
+  try {
+    snippet = toml::parse(key + " = " + value, std::string_view(source));
+  } catch (const toml::parse_error&) {
+    // Not a TOML value: a bare word is a string (--set name=quick2).
+    try {
+      snippet = toml::parse(key + " = " + toml_literal(value), std::string_view(source));
+    } catch (const toml::parse_error& error) {
+      throw JobError(source, {}, "",
+                     "expected KEY=VALUE with KEY a dotted key of the job file: " +
+                         std::string(error.description()));
+    }
+  }
+  merge_table(root, snippet);
+}
+
 }  // namespace
+
+std::optional<std::string> results_extension_problem(const std::filesystem::path& file) {
+  const std::string extension = file.extension().string();
+  if (extension == ".h5" || extension == ".hdf5") return std::nullopt;
+  return single_quoted(shortened(file.string())) +
+         " is not a results file name: ggk writes HDF5, named *.h5 or *.hdf5 (for CSV, "
+         "`ggk info --csv FILE.h5` prints the summary)";
+}
 
 JobSpec parse_job(std::string toml_text, const std::filesystem::path& source_file,
                   std::span<const TaskTable> tasks, const JobLoadOptions& options) {
@@ -187,6 +251,7 @@ JobSpec parse_job(std::string toml_text, const std::filesystem::path& source_fil
     throw JobError(file, location_of(error.source()), "",
                    "TOML syntax error: " + std::string(error.description()));
   }
+  for (const std::string& override_text : options.overrides) apply_override(root, override_text);
   const std::vector<std::string_view> keys = top_level_keys(tasks);
   const std::span<const std::string_view> task_names(keys.begin() + kCommonTopLevelKeys.size(),
                                                      keys.end());
@@ -223,7 +288,19 @@ JobSpec parse_job(std::string toml_text, const std::filesystem::path& source_fil
   spec.lspi = parse_lspi(job);
   spec.output = parse_output(job, spec.name, options);
   spec.source_file = source_file;
-  spec.source_text = std::move(toml_text);
+  spec.overrides = options.overrides;
+  if (options.overrides.empty()) {
+    spec.source_text = std::move(toml_text);
+  } else {
+    // What runs is the job the overrides make: recorded, and compared by --resume.
+    std::ostringstream text;
+    text << "# " << file << " with";
+    for (const std::string& override_text : options.overrides) {
+      text << " --set " << override_text;
+    }
+    text << "\n" << toml::toml_formatter(root) << "\n";
+    spec.source_text = text.str();
+  }
   return spec;
 }
 

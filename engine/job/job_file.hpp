@@ -13,6 +13,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "engine/job/job_error.hpp"
 #include "engine/job/job_spec.hpp"
@@ -27,7 +28,18 @@ struct JobLoadOptions {
   // Check that the output file's directory exists and is writable. Off for tools
   // that only read a job (e.g. re-reading the TOML stored in a results file).
   bool check_output = true;
+  // "KEY=VALUE" (ggk run/validate --set): KEY a dotted key of the job
+  // ("khepera.motion.turn_deg", "runs"), VALUE a TOML value (a bare word reads as
+  // a string: --set sweep.solver=[\"brm\"] and --set name=x alike). Applied over the
+  // file's table, in order, before validation; a bad value is reported naming
+  // the option ("--set runs=0: runs: expected ...") instead of a line.
+  std::vector<std::string> overrides;
 };
+
+// Why `file` cannot name a results file, or nothing: results are HDF5 files,
+// named *.h5 or *.hdf5 (a results.csv would be an HDF5 file in disguise; CSV
+// comes from `ggk info --csv`).
+std::optional<std::string> results_extension_problem(const std::filesystem::path& file);
 
 // Reads and validates the job file at `path`. Throws JobError.
 JobSpec load_job_file(const std::filesystem::path& path, std::span<const TaskTable> tasks,

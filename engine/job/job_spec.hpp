@@ -70,8 +70,11 @@ struct JobSpec {
   OutputSettings output;
 
   std::filesystem::path source_file;  // the job file as it was named
-  std::string source_text;            // its TOML text, verbatim (stored with the results)
-  std::vector<JobInput> inputs;       // the files it names (map, arena), read when loaded
+  // Its TOML text, verbatim (stored with the results); with overrides, the job
+  // they make, as TOML, under a comment naming the file and the overrides.
+  std::string source_text;
+  std::vector<std::string> overrides;  // `ggk run --set KEY=VALUE` arguments, in order
+  std::vector<JobInput> inputs;        // the files it names (map, arena), read when loaded
 };
 
 // The job's task configuration as the type its task's table parser returns.

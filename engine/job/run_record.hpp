@@ -23,12 +23,18 @@ struct SampleRecord {
   std::vector<std::uint8_t> terminals;
 };
 
+// How a NamedArray is stored: its values are held as doubles and written as
+// this type (integers and flags as integers, so that h5py and pandas read them
+// as such). Integer types need every value to be an integer in the type's range.
+enum class ElementType { kFloat64, kInt32, kInt64, kUInt8 };
+
 // A named array stored with a fit or a run (task-specific extras such as
 // per-start-state step counts or value surfaces).
 struct NamedArray {
   std::string name;
   std::vector<std::int64_t> shape;  // row-major; product = values.size()
   std::vector<double> values;
+  ElementType element_type = ElementType::kFloat64;  // 2-D: kFloat64 or kInt32
 };
 
 struct FitRecord {

@@ -86,6 +86,14 @@ bool NumberRange::contains(double value) const {
   return above_min && below_max;
 }
 
+JobError error_at(const std::string& file, const toml::source_region& region, std::string key_path,
+                  std::string detail) {
+  if (region.path && !region.path->empty() && *region.path != file) {
+    return JobError(*region.path, {}, std::move(key_path), std::move(detail));
+  }
+  return JobError(file, location_of(region), std::move(key_path), std::move(detail));
+}
+
 JobFileLocation location_of(const toml::source_region& region) {
   return {static_cast<std::int32_t>(region.begin.line),
           static_cast<std::int32_t>(region.begin.column)};
@@ -159,7 +167,7 @@ void TomlTableReader::reject_unknown_keys() const {
     detail += table_path_.empty() ? "" : " of [" + table_path_ + "]";
     detail += ": " + quoted_list(known_keys_) + ")";
   }
-  throw JobError(file_, location_of(first_unknown->source()), key_path(name), detail);
+  throw error_at(file_, first_unknown->source(), key_path(name), detail);
 }
 
 bool TomlTableReader::has(std::string_view key) const {
@@ -173,22 +181,24 @@ const toml::node* TomlTableReader::find(std::string_view key) const {
 void TomlTableReader::fail(std::string_view key, std::string detail) const {
   const auto it = table_->find(key);
   if (it == table_->end()) {
-    const JobFileLocation where =
-        present_ && !table_path_.empty() ? location_of(table_->source()) : JobFileLocation{};
-    throw JobError(file_, where, key_path(key), std::move(detail));
+    if (present_ && !table_path_.empty()) {
+      throw error_at(file_, table_->source(), key_path(key), std::move(detail));
+    }
+    throw JobError(file_, {}, key_path(key), std::move(detail));
   }
-  throw JobError(file_, location_of(it->first.source()), key_path(key), std::move(detail));
+  throw error_at(file_, it->first.source(), key_path(key), std::move(detail));
 }
 
 void TomlTableReader::fail_at(const toml::node& node, std::string_view key,
                               std::string detail) const {
-  throw JobError(file_, location_of(node.source()), key_path(key), std::move(detail));
+  throw error_at(file_, node.source(), key_path(key), std::move(detail));
 }
 
 void TomlTableReader::fail_table(std::string detail) const {
-  const JobFileLocation where =
-      present_ && !table_path_.empty() ? location_of(table_->source()) : JobFileLocation{};
-  throw JobError(file_, where, table_path_, std::move(detail));
+  if (present_ && !table_path_.empty()) {
+    throw error_at(file_, table_->source(), table_path_, std::move(detail));
+  }
+  throw JobError(file_, {}, table_path_, std::move(detail));
 }
 
 std::optional<TomlTableReader> TomlTableReader::subtable(

@@ -49,6 +49,12 @@ struct NumberRange {
 // Location of a toml++ node (line 0 when it has none).
 JobFileLocation location_of(const toml::source_region& region);
 
+// The error at `region` of `file`: FILE:LINE:COLUMN, or, for a value that came
+// from elsewhere (a `ggk run --set KEY=VALUE` override, whose region names the
+// option), that source without a line.
+JobError error_at(const std::string& file, const toml::source_region& region, std::string key_path,
+                  std::string detail);
+
 // How a value reads in a message: 12, 2.5, "text", true, an array, a table.
 std::string describe_value(const toml::node& node);
 

@@ -82,7 +82,8 @@ RunSummary run_job(const JobSpec& job, const RunOptions& options) {
 
   std::atomic<std::int64_t> failed_fits{0};
   try {
-    StoreWriter writer(std::move(opened.file));
+    StoreWriter writer(std::move(opened.file), StoreWriter::kDefaultQueueCapacity,
+                       StoreWriter::WhenIdle::kCloseForReaders);
     {
       Progress progress(static_cast<std::int32_t>(pending.size()), fits_per_run, options.quiet);
       tbb::parallel_for(

@@ -187,7 +187,8 @@ class Coordinator {
         skipped_(opened.skipped),
         pending_(opened.pending.begin(), opened.pending.end()),
         total_(static_cast<std::int32_t>(opened.pending.size())),
-        writer_(std::move(opened.file)) {}
+        writer_(std::move(opened.file), StoreWriter::kDefaultQueueCapacity,
+                StoreWriter::WhenIdle::kCloseForReaders) {}
 
   // Returns the exit status; fills summary on success.
   int run(RunSummary& summary);

@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "engine/job/job_compare.hpp"
+#include "engine/job/job_file.hpp"
 #include "engine/job/job_input.hpp"
 #include "engine/job/usage_error.hpp"
 #include "engine/run/job_runner.hpp"
@@ -116,6 +117,10 @@ std::string string_attribute_or_throw(const Hdf5File& file, const fs::path& outp
 // what differs.
 void check_same_job(const Hdf5File& file, const JobSpec& job, const fs::path& output) {
   const std::string recorded = string_attribute_or_throw(file, output, "job");
+  if (const std::string mismatch = layout_mismatch(file); !mismatch.empty()) {
+    throw UsageError("cannot resume " + output.string() + ": " + mismatch +
+                     "; start it again with --overwrite, or write to another -o");
+  }
   if (const auto difference = job_difference(recorded, job.source_text)) {
     throw UsageError("cannot resume " + output.string() + ": it holds the results of a different " +
                      "job (" + *difference + "; job file " + job.source_file.string() +
@@ -200,6 +205,13 @@ Hdf5File create_new(const JobSpec& job, const RunOptions& options, const fs::pat
   file.write_string_attribute("/", "created", utc_now());
   file.write_string_attribute("/", "task", job.task);
   file.write_int64_attribute("/", "runs", job.runs);
+  if (!job.overrides.empty()) {
+    std::string overrides;
+    for (const std::string& text : job.overrides)
+      overrides += (overrides.empty() ? "" : "\n") + text;
+    file.write_string_attribute("/", "job_overrides", overrides);
+  }
+  write_layout_version(file);
   file.create_group("/" + job.task);
   mark_selection(file, job, options.runs);
   file.flush();
@@ -207,6 +219,10 @@ Hdf5File create_new(const JobSpec& job, const RunOptions& options, const fs::pat
 }
 
 }  // namespace
+
+std::string ggk_version_text() {
+  return std::string(GGK_VERSION) + " (" + GGK_GIT_DESCRIBE + ")";
+}
 
 fs::path temporary_results_path(const fs::path& output) {
   return fs::path(output.string() + ".part");
@@ -249,6 +265,7 @@ OpenedResults open_results(const JobSpec& job, const RunOptions& options) {
   }
   check_output_directory(output);
   OutputState state = output_state(output);  // refuse a device or FIFO before locking
+  if (auto problem = results_extension_problem(output)) throw UsageError("output: " + *problem);
   if (state == OutputState::kFile && !options.resume && !options.overwrite) {
     throw UsageError("output " + output.string() +
                      " exists: pass --resume to continue it or --overwrite to replace it");

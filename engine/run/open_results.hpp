@@ -76,6 +76,10 @@ struct OpenedResults {
 
 OpenedResults open_results(const JobSpec& job, const RunOptions& options);
 
+// The version of this ggk and the `git describe` of its source when it was
+// configured: what every results file records (ggk_version, git).
+std::string ggk_version_text();  // "0.1.0 (v0.1-12-gabcdef)"
+
 // "<output>.part": where a new results file is written until its first run lands.
 std::filesystem::path temporary_results_path(const std::filesystem::path& output);
 

@@ -9,9 +9,14 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <string>
 #include <thread>
 
 namespace ggk::engine {
+
+// The time left after `done` of `total` runs in `elapsed_seconds` ("42s"), or
+// "--" while no run has ended.
+std::string eta_text(std::int32_t done, std::int32_t total, double elapsed_seconds);
 
 class Progress {
  public:

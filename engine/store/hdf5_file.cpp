@@ -2,8 +2,10 @@
 
 #include <hdf5.h>
 
+#include <chrono>
 #include <stdexcept>
 #include <system_error>
+#include <thread>
 #include <type_traits>
 #include <utility>
 
@@ -119,6 +121,46 @@ Hdf5File Hdf5File::open_read_only(const std::filesystem::path& path) {
 
 Hdf5File Hdf5File::open_read_write(const std::filesystem::path& path) {
   return open(path, false);
+}
+
+namespace {
+
+bool is_lock_conflict(const std::string& message) {
+  return message.find("unable to lock file") != std::string::npos;
+}
+
+}  // namespace
+
+Hdf5File Hdf5File::open_waiting_for_lock(const std::filesystem::path& path, bool read_only,
+                                         std::chrono::milliseconds patience) {
+  const auto give_up = std::chrono::steady_clock::now() + patience;
+  for (;;) {
+    try {
+      return open(path, read_only);
+    } catch (const std::runtime_error& e) {
+      if (!is_lock_conflict(e.what()) || std::chrono::steady_clock::now() >= give_up) throw;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
+Hdf5File Hdf5File::reopen_for_writer(const std::filesystem::path& path) {
+  try {
+    return open_waiting_for_lock(path, false, std::chrono::seconds(3));
+  } catch (const std::runtime_error& e) {
+    if (!is_lock_conflict(e.what())) throw;
+  }
+  // A reader keeps the file open (a notebook): write without HDF5's lock. The
+  // caller holds ggk's own output lock, so no second writer can be there.
+  const Context where{-1, path};
+  const Handle fapl = make_property_list(H5P_FILE_ACCESS, where, "/");
+  check(H5Pset_file_locking(fapl.get(), false, true), where, "switch off file locking for", "/");
+  const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get());
+  if (id < 0) {
+    throw std::runtime_error("cannot open HDF5 file " + in_quotes(path.string()) +
+                             file_problem(path) + ": " + take_hdf5_reason());
+  }
+  return Hdf5File(path, id, false);
 }
 
 void Hdf5File::close() {

@@ -19,9 +19,11 @@
 //  - a sparse matrix is a CSR triple group <path>/{indptr int64, indices int32,
 //    data double} with attribute shape = int64[2] {rows, cols};
 //  - a table is a 1-D extendable, chunked, checksummed, uncompressed dataset (see
-//    "Crashes") of a compound type (int32, int64, double and fixed-length
-//    NUL-padded UTF-8 string columns), so that
-//    pandas.DataFrame(h5py.File(f)[path][:]) reads it in one call.
+//    "Crashes") of a compound type (int32, int64, double and variable-length
+//    UTF-8 string columns, what h5py writes for str), so that
+//    pandas.DataFrame(h5py.File(f)[path][:]) reads it in one call (h5py hands
+//    the strings of a compound over as bytes: results/README.md decodes them);
+//    readers also accept the fixed-length string columns of older files.
 // Default library format bounds (files readable by HDF5 >= 1.8, h5py on
 // Debian 12). The per-chunk checksums make damage to the numbers an error on
 // reading (ggk verify reads every dataset), not wrong values. The 1.8/1.10
@@ -56,6 +58,7 @@
 // global lock, so parallel calls would only queue up; other builds are not).
 // The engine therefore makes every HDF5 call on StoreWriter's single thread.
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -92,12 +95,14 @@ using CsrMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, std::int32_t>;
 
 enum class ColumnType { kInt32, kInt64, kFloat64, kString };
 
-// One column of a table. Strings are fixed-length: string_size bytes of UTF-8,
-// NUL-padded; a longer value is an error (no silent truncation).
+// One column of a table. Strings are variable-length UTF-8 (string_size 0), or
+// fixed-length: string_size bytes of UTF-8, NUL-padded, a longer value an error
+// (no silent truncation); the engine writes variable-length ones, fixed ones
+// are read from older files.
 struct TableColumn {
   std::string name;
   ColumnType type = ColumnType::kFloat64;
-  std::size_t string_size = 0;  // bytes, > 0 for kString, ignored otherwise
+  std::size_t string_size = 0;  // kString: bytes, or 0 for variable length; ignored otherwise
 
   bool operator==(const TableColumn&) const = default;
 };
@@ -119,6 +124,16 @@ class Hdf5File {
                          CreateMode mode = CreateMode::kFailIfExists);
   static Hdf5File open_read_only(const std::filesystem::path& path);
   static Hdf5File open_read_write(const std::filesystem::path& path);
+  // Like open(), but while another process holds HDF5's lock on the file (a
+  // writer between two runs, or readers) tries again for up to `patience`.
+  static Hdf5File open_waiting_for_lock(const std::filesystem::path& path, bool read_only,
+                                        std::chrono::milliseconds patience);
+  // Opens read-write again a file this process writes and closed between two
+  // commits so that others could read it: waits up to 3 s for readers that
+  // hold HDF5's lock, then opens without it (the caller holds ggk's own output
+  // lock, so there is no second writer; a reader that keeps the file open keeps
+  // its old view and sees the new runs when it opens the file again).
+  static Hdf5File reopen_for_writer(const std::filesystem::path& path);
 
   // In-memory files (HDF5's core driver, nothing on disk), to move a group between
   // processes: create one, write into it, take its bytes with file_image(); the

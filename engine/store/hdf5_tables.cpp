@@ -56,9 +56,13 @@ std::size_t column_size(const TableColumn& column) {
     case ColumnType::kFloat64:
       return sizeof(double);
     case ColumnType::kString:
-      return column.string_size;
+      return column.string_size == 0 ? sizeof(char*) : column.string_size;
   }
   return 0;
+}
+
+bool is_variable(const TableColumn& column) {
+  return column.type == ColumnType::kString && column.string_size == 0;
 }
 
 // Byte offset of every column in a packed row, and the row size (last entry).
@@ -76,10 +80,6 @@ void check_columns(const Context& where, const std::string& path,
     if (column.name.empty() || column.name.find('\0') != std::string::npos) {
       throw_store_error(where.file_path, path,
                         "column " + std::to_string(i) + " has an invalid name");
-    }
-    if (column.type == ColumnType::kString && column.string_size == 0) {
-      throw_store_error(where.file_path, path,
-                        "string column " + in_quotes(column.name) + " has size 0");
     }
     for (std::size_t j = 0; j < i; ++j) {
       if (columns[j].name == column.name) {
@@ -113,7 +113,9 @@ Handle row_type(const Context& where, const std::string& path, std::span<const T
                            in_file ? H5T_IEEE_F64LE : H5T_NATIVE_DOUBLE);
         break;
       case ColumnType::kString: {
-        const Handle string_type = fixed_string_type(where, column.string_size, path);
+        const Handle string_type = is_variable(column)
+                                       ? variable_string_type(where, path)
+                                       : fixed_string_type(where, column.string_size, path);
         status = H5Tinsert(compound.get(), column.name.c_str(), offsets[i], string_type.get());
         break;
       }
@@ -148,9 +150,11 @@ std::vector<TableColumn> table_columns(const Context& where, const std::string& 
       column.type = ColumnType::kInt64;
     } else if (has_numeric_type<double>(member.get())) {
       column.type = ColumnType::kFloat64;
-    } else if (H5Tget_class(member.get()) == H5T_STRING && H5Tis_variable_str(member.get()) == 0) {
+    } else if (H5Tget_class(member.get()) == H5T_STRING) {
+      // Variable-length (string_size 0, what the engine writes) or fixed-length
+      // (files of ggk before the variable-length tables).
       column.type = ColumnType::kString;
-      column.string_size = H5Tget_size(member.get());
+      column.string_size = H5Tis_variable_str(member.get()) > 0 ? 0 : H5Tget_size(member.get());
     } else {
       throw_store_error(where.file_path, path,
                         "column " + in_quotes(column.name) + " has unsupported type " +
@@ -198,6 +202,13 @@ std::vector<unsigned char> pack_rows(const Context& where, const std::string& pa
           break;
         case ColumnType::kString: {
           const std::string& text = std::get<std::string>(row[c]);
+          if (is_variable(column)) {
+            // The cell points into the row, which outlives the write.
+            if (text.find('\0') != std::string::npos) wrong("string contains a NUL character");
+            const char* pointer = text.c_str();
+            std::memcpy(cell, &pointer, sizeof pointer);
+            break;
+          }
           if (text.size() > column.string_size) {
             wrong("string of " + std::to_string(text.size()) + " bytes exceeds the column's " +
                   std::to_string(column.string_size));
@@ -289,11 +300,20 @@ std::vector<TableRow> Hdf5File::read_table(std::string_view path) const {
   const std::vector<std::size_t> offsets = column_offsets(columns);
   const std::size_t row_size = offsets.back();
   std::vector<unsigned char> buffer(count * row_size);
+  const Handle memory_type = row_type(where, name, columns, false);
   if (count > 0) {
-    const Handle memory_type = row_type(where, name, columns, false);
     check(H5Dread(dataset.get(), memory_type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()),
           where, "read table", name);
   }
+  // HDF5 allocated the variable-length strings: copied out below, then freed.
+  struct Reclaim {
+    hid_t type, space;
+    void* data;
+    std::size_t count;
+    ~Reclaim() {
+      if (count > 0) H5Dvlen_reclaim(type, space, H5P_DEFAULT, data);
+    }
+  } reclaim{memory_type.get(), space.get(), buffer.data(), count};
   std::vector<TableRow> rows(count);
   for (std::size_t r = 0; r < count; ++r) {
     rows[r].reserve(columns.size());
@@ -319,8 +339,14 @@ std::vector<TableRow> Hdf5File::read_table(std::string_view path) const {
           break;
         }
         case ColumnType::kString:
-          rows[r].emplace_back(decode_fixed_string(reinterpret_cast<const char*>(cell),
-                                                   columns[c].string_size, H5T_STR_NULLPAD));
+          if (is_variable(columns[c])) {
+            const char* text = nullptr;
+            std::memcpy(&text, cell, sizeof text);
+            rows[r].emplace_back(std::string(text == nullptr ? "" : text));
+          } else {
+            rows[r].emplace_back(decode_fixed_string(reinterpret_cast<const char*>(cell),
+                                                     columns[c].string_size, H5T_STR_NULLPAD));
+          }
           break;
       }
     }

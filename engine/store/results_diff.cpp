@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <optional>
 #include <set>
 #include <string>
@@ -139,7 +140,7 @@ class Comparison {
 Hdf5File open_results_file(const std::filesystem::path& path) {
   std::optional<Hdf5File> file;
   try {
-    file.emplace(Hdf5File::open_read_only(path));
+    file.emplace(Hdf5File::open_waiting_for_lock(path, true, std::chrono::seconds(10)));
   } catch (const std::exception& e) {
     throw UsageError(e.what());
   }

@@ -1,13 +1,38 @@
 #pragma once
-// `ggk info FILE`: what a results file holds (job, runs complete, and the mean of
-// each metric per sweep point over the complete runs), as plain text.
+// `ggk info FILE`: what a results file holds (job, runs complete, and per sweep
+// point the fits, how many failed or stopped at the iteration cap, and the mean
+// of each metric over the complete runs with its 95 % confidence interval), as
+// plain text or CSV. The rows come from the complete runs themselves, so a
+// sweep that is still running (or was killed) shows the runs done so far.
 
+#include <cstdint>
 #include <filesystem>
 #include <ostream>
+#include <span>
 
 namespace ggk::engine {
 
+enum class InfoFormat { kText, kCsv };
+
 // Throws UsageError when the file cannot be opened or is not a ggk results file.
-void print_results_info(const std::filesystem::path& file, std::ostream& out);
+void print_results_info(const std::filesystem::path& file, std::ostream& out,
+                        InfoFormat format = InfoFormat::kText);
+
+// A 95 % confidence interval: [low, high] around the estimate; NaN bounds when
+// there are too few values for one.
+struct Interval {
+  double estimate = 0.0;
+  double low = 0.0;
+  double high = 0.0;
+};
+
+// Two-sided 95 % quantile of Student's t with `dof` >= 1 degrees of freedom
+// (scipy.stats.t.ppf(0.975, dof) to 4 decimals).
+double student_t_975(std::int64_t dof);
+// Mean of the finite values with its Student-t interval (NaN values dropped).
+Interval mean_interval(std::span<const double> values);
+// Success rate of `successes` out of `trials` with Wilson's score interval:
+// inside [0, 1], and of non-zero width at 0 % and 100 %.
+Interval wilson_interval(std::int64_t successes, std::int64_t trials);
 
 }  // namespace ggk::engine

@@ -1,6 +1,7 @@
 #include "engine/store/results_merge.hpp"
 
 #include <unistd.h>
+#include <chrono>
 
 #include <map>
 #include <optional>
@@ -25,12 +26,16 @@ struct Shard {
 
 Hdf5File open_shard(const std::filesystem::path& path) {
   try {
-    Hdf5File file = Hdf5File::open_read_only(path);
+    Hdf5File file = Hdf5File::open_waiting_for_lock(path, true, std::chrono::seconds(10));
     for (const char* attribute : {"job", "task", "runs"}) {
       if (!file.has_attribute("/", attribute)) {
         throw UsageError(path.string() + " is not a ggk results file (no '" + attribute +
                          "' attribute)");
       }
+    }
+    if (const std::string mismatch = layout_mismatch(file); !mismatch.empty()) {
+      throw UsageError("cannot merge " + path.string() + ": " + mismatch +
+                       "; compute its runs again with this ggk");
     }
     return file;
   } catch (const UsageError&) {
@@ -155,6 +160,8 @@ void merge_results(const std::filesystem::path& output,
       if (name == "runs_selected") continue;  // the merged file is the whole job's
       if (name == "runs") {
         merged.write_int64_attribute("/", name, runs);
+      } else if (name == "layout") {
+        write_layout_version(merged);
       } else {
         merged.write_string_attribute("/", name, first.read_string_attribute("/", name));
       }

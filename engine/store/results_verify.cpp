@@ -1,5 +1,6 @@
 #include "engine/store/results_verify.hpp"
 
+#include <chrono>
 #include <functional>
 #include <stdexcept>
 #include <vector>
@@ -71,7 +72,7 @@ std::optional<std::string> verify_run(const Hdf5File& file, const std::string& t
 bool verify_results(const std::filesystem::path& path, std::ostream& out) {
   std::optional<Hdf5File> opened;
   try {
-    opened.emplace(Hdf5File::open_read_only(path));
+    opened.emplace(Hdf5File::open_waiting_for_lock(path, true, std::chrono::seconds(10)));
   } catch (const std::exception& e) {
     throw UsageError(std::string(e.what()) +
                      " (if it is a results file, its first bytes are damaged)");

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -14,8 +16,7 @@ namespace ggk::engine {
 
 namespace {
 
-constexpr std::size_t kNameSize = 16;  // basis, solver names
-constexpr std::size_t kStatusSize = 16;
+constexpr std::size_t kVariableLength = 0;  // string columns: variable-length UTF-8
 
 // The shortest text that reads back as exactly `value` ("2.5", "1e-06",
 // "10.000001"): distinct values always get distinct fit group names.
@@ -30,12 +31,54 @@ std::span<const T> as_span(const std::vector<T>& v) {
   return {v.data(), v.size()};
 }
 
+// The values as integers of type T; a value that is not one (a fraction, NaN,
+// out of T's range) is a bug of the task that made the array.
+template <typename T>
+std::vector<T> integers_of(const NamedArray& array) {
+  std::vector<T> integers;
+  integers.reserve(array.values.size());
+  for (const double value : array.values) {
+    const bool fits = value >= static_cast<double>(std::numeric_limits<T>::min()) &&
+                      value <= static_cast<double>(std::numeric_limits<T>::max());
+    if (!fits || value != std::trunc(value)) {
+      throw std::logic_error("array '" + array.name + "' is stored as integers but holds " +
+                             format_number(value));
+    }
+    integers.push_back(static_cast<T>(value));
+  }
+  return integers;
+}
+
 void write_named_array(Hdf5File& file, const std::string& group, const NamedArray& array) {
   const std::string path = group + "/" + array.name;
   if (array.shape.size() == 2) {
-    file.write_matrix(path, array.shape[0], array.shape[1], as_span(array.values));
-  } else {
-    file.write_vector(path, as_span(array.values));
+    switch (array.element_type) {
+      case ElementType::kFloat64:
+        file.write_matrix(path, array.shape[0], array.shape[1], as_span(array.values));
+        return;
+      case ElementType::kInt32:
+        file.write_matrix(path, array.shape[0], array.shape[1],
+                          as_span(integers_of<std::int32_t>(array)));
+        return;
+      case ElementType::kInt64:
+      case ElementType::kUInt8:
+        throw std::logic_error("array '" + array.name +
+                               "': 2-D arrays are stored as float64 or int32 only");
+    }
+  }
+  switch (array.element_type) {
+    case ElementType::kFloat64:
+      file.write_vector(path, as_span(array.values));
+      return;
+    case ElementType::kInt32:
+      file.write_vector(path, as_span(integers_of<std::int32_t>(array)));
+      return;
+    case ElementType::kInt64:
+      file.write_vector(path, as_span(integers_of<std::int64_t>(array)));
+      return;
+    case ElementType::kUInt8:
+      file.write_vector(path, as_span(integers_of<std::uint8_t>(array)));
+      return;
   }
 }
 
@@ -185,6 +228,23 @@ void clear_run_slots(Hdf5File& file, const std::string& group, const std::string
 
 }  // namespace
 
+void write_layout_version(Hdf5File& file) {
+  if (file.has_attribute("/", "layout")) file.remove_attribute("/", "layout");
+  file.write_int64_attribute("/", "layout", kLayoutVersion);
+}
+
+std::string layout_mismatch(const Hdf5File& file) {
+  const std::int64_t layout =
+      file.has_attribute("/", "layout") ? file.read_int64_attribute("/", "layout") : 1;
+  if (layout == kLayoutVersion) return {};
+  return "it has results layout " + std::to_string(layout) + " (" +
+         (layout < kLayoutVersion ? "written by an older ggk: fit groups named by the swept axes, "
+                                    "fixed-length strings, integers stored as float64"
+                                  : "written by a newer ggk") +
+         ") and this ggk writes layout " + std::to_string(kLayoutVersion) +
+         ", so it cannot add runs to it (ggk info, diff and verify still read it)";
+}
+
 bool is_scratch(std::string_view root_member) {
   return root_member.starts_with(std::string_view(kStagingRoot).substr(1));
 }
@@ -199,25 +259,29 @@ std::string staging_group(const std::string& task, std::int32_t run) {
   return kStagingRoot + run_group(task, run);
 }
 
-std::string fit_group_name(const JobSpec& job, const SweepPoint& point) {
+std::string fit_group_name(const SweepPoint& point) {
+  // Every axis, always, in sweep order: the name of a fit does not depend on
+  // which axes the job sweeps, so scripts and two jobs' files address it alike.
   char kernels[16];
   std::snprintf(kernels, sizeof kernels, "k_%04d", point.kernels);
-  std::string name = std::string(kernel_type_name(point.basis)) + "/" + kernels;
-  if (job.sweep.sigma.size() > 1) name += "_sigma" + format_number(point.sigma);
-  if (job.sweep.solver.size() > 1) name += "_" + std::string(solver_name(point.solver));
-  if (job.sweep.lambda.size() > 1) name += "_lambda" + format_number(point.lambda);
-  return name;
+  return std::string(kernel_type_name(point.basis)) + "/" + kernels + "_sigma" +
+         format_number(point.sigma) + "_" + std::string(solver_name(point.solver)) + "_lambda" +
+         format_number(point.lambda);
+}
+
+std::string fit_group_name(const JobSpec& /*job*/, const SweepPoint& point) {
+  return fit_group_name(point);
 }
 
 std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names) {
   std::vector<TableColumn> columns = {{"run", ColumnType::kInt32, 0},
                                       {"sweep_point", ColumnType::kInt32, 0},
-                                      {"basis", ColumnType::kString, kNameSize},
+                                      {"basis", ColumnType::kString, kVariableLength},
                                       {"kernels", ColumnType::kInt32, 0},
                                       {"sigma", ColumnType::kFloat64, 0},
-                                      {"solver", ColumnType::kString, kNameSize},
+                                      {"solver", ColumnType::kString, kVariableLength},
                                       {"lambda", ColumnType::kFloat64, 0},
-                                      {"status", ColumnType::kString, kStatusSize}};
+                                      {"status", ColumnType::kString, kVariableLength}};
   for (const std::string& name : metric_names) columns.push_back({name, ColumnType::kFloat64, 0});
   columns.push_back({"fit_seconds", ColumnType::kFloat64, 0});
   return columns;
@@ -248,6 +312,7 @@ void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
   file.flush();
   file.move(staging, group);
   file.write_int64_attribute(group, "complete", 1);  // last: the mark that the run is whole
+  drop_staging(file);  // its now empty groups: no /.staging in a reader's view
   file.flush();
 }
 
@@ -275,6 +340,7 @@ void write_run_image(Hdf5File& file, const JobSpec& job, std::int32_t run,
   file.copy_from(source, group, staging);  // with its complete mark: staging is never kept
   file.flush();
   file.move(staging, group);
+  drop_staging(file);
   file.flush();
 }
 
@@ -357,7 +423,8 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
   }
   if (!file.in_memory()) {
     std::uint64_t row_bytes = 0;
-    for (const TableColumn& column : columns) row_bytes += 8 + column.string_size;
+    for (const TableColumn& column : columns)
+      row_bytes += 8 + std::max<std::size_t>(column.string_size, 64);
     require_room(file.path(), 2 * rows.size() * row_bytes + kCommitOverhead, "the summary");
   }
   if (!columns.empty()) {

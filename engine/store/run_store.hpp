@@ -3,7 +3,7 @@
 //
 //   /<task>/run_NNN/samples/{observations, actions, rewards, next_observations, terminals}
 //   /<task>/run_NNN/graph/{indptr, indices, weights, nodes, ...}
-//   /<task>/run_NNN/fits/<basis>/k_PPPP[_sigmaS][_solver][_lambdaL]/
+//   /<task>/run_NNN/fits/<basis>/k_PPPP_sigmaS_<solver>_lambdaL/
 //        {centers, weights, policy, history/..., A/, b, <task arrays>}  attrs: point values, status
 //   /<task>/run_NNN/fit_metrics   one row per fit (the summary's columns)
 //   /<task>/run_NNN               attr complete = 1, written last
@@ -23,6 +23,16 @@
 
 namespace ggk::engine {
 
+// The layout of results files this ggk writes, recorded as the root attribute
+// "layout": 2 = fit groups named by every axis value, variable-length UTF-8 strings
+// in tables, integer arrays stored as integers. Files without it (layout 1, older
+// ggk) are read by info, diff and verify, but runs are not added to them.
+inline constexpr std::int64_t kLayoutVersion = 2;
+void write_layout_version(Hdf5File& file);
+// Why runs of this ggk cannot be added to the file ("written by an older ggk ..."),
+// or an empty string when they can.
+std::string layout_mismatch(const Hdf5File& file);
+
 std::string run_group(const std::string& task, std::int32_t run);  // "/maze/run_007"
 // Where a run is written before it is moved into place: "/.staging/maze/run_007".
 inline const std::string kStagingRoot = "/.staging";
@@ -30,7 +40,10 @@ std::string staging_group(const std::string& task, std::int32_t run);
 // True for the root members that are the writer's scratch (".staging" and the
 // ".staging_discarded_N" of damaged leftovers): not results; readers skip them.
 bool is_scratch(std::string_view root_member);
-std::string fit_group_name(const JobSpec& job, const SweepPoint& point);  // "ggk/k_0016"
+// "ggk/k_0016_sigma2.5_brm_lambda1e-06": every axis value, whatever the job sweeps
+// (numbers in their shortest exact form, so distinct values get distinct names).
+std::string fit_group_name(const SweepPoint& point);
+std::string fit_group_name(const JobSpec& job, const SweepPoint& point);  // the same name
 
 // The columns of fit_metrics and summary for a task whose fits report `metrics`.
 std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names);

@@ -6,15 +6,15 @@
 
 namespace ggk::engine {
 
-StoreWriter::StoreWriter(Hdf5File file, std::size_t queue_capacity)
-    : file_(std::move(file)), capacity_(queue_capacity) {
+StoreWriter::StoreWriter(Hdf5File file, std::size_t queue_capacity, WhenIdle when_idle)
+    : file_(std::move(file)), capacity_(queue_capacity), when_idle_(when_idle) {
   if (capacity_ == 0) throw std::invalid_argument("StoreWriter queue capacity must be >= 1");
   thread_ = std::thread([this] { run_jobs(); });
 }
 
 StoreWriter::~StoreWriter() {
   stop_thread();
-  if (file_ && failure_) file_->abandon();  // see close()
+  if (file_ && failure_ && !parked_) file_->abandon();  // see close()
   file_.reset();
   if (failure_ && !failure_reported_) {
     // The last place the error can still be seen; losing it silently would hide
@@ -75,7 +75,9 @@ void StoreWriter::close() {
   // After a failed write the file is abandoned, not closed (Hdf5File::abandon):
   // it stays as the last successful flush left it.
   std::exception_ptr close_failure;
-  if (file_ && !failed()) {
+  if (parked_) {
+    // Closed already, after its last commit.
+  } else if (file_ && !failed()) {
     try {
       file_->close();
     } catch (...) {
@@ -106,6 +108,19 @@ void StoreWriter::stop_thread() {
   if (thread_.joinable()) thread_.join();
 }
 
+void StoreWriter::park_file() {
+  parked_path_ = file_->path();
+  parked_gzip_level_ = file_->gzip_level();
+  file_->close();  // every commit flushed already: this writes little
+  parked_ = true;
+}
+
+void StoreWriter::unpark_file() {
+  *file_ = Hdf5File::reopen_for_writer(parked_path_);
+  file_->set_gzip_level(parked_gzip_level_);
+  parked_ = false;
+}
+
 void StoreWriter::run_jobs() {
   std::unique_lock lock(mutex_);
   for (;;) {
@@ -122,6 +137,7 @@ void StoreWriter::run_jobs() {
       if (entry.cancel) entry.cancel(earlier_failure);
     } else {
       try {
+        if (parked_) unpark_file();
         entry.run(*file_);
       } catch (...) {
         failure = std::current_exception();
@@ -130,6 +146,16 @@ void StoreWriter::run_jobs() {
     entry = Entry{};  // free the job's captured data outside the lock
 
     lock.lock();
+    if (!failure && !failure_ && queue_.empty() && when_idle_ == WhenIdle::kCloseForReaders &&
+        !parked_ && file_ && !file_->in_memory()) {
+      lock.unlock();
+      try {
+        park_file();
+      } catch (...) {
+        failure = std::current_exception();
+      }
+      lock.lock();
+    }
     if (failure && !failure_) {
       failure_ = failure;
       space_available_.notify_all();  // blocked producers must see the failure

@@ -18,6 +18,12 @@
 // about data that never reached the disk). Nothing is swallowed: an error
 // no caller saw by the time of destruction is printed to stderr by the destructor.
 //
+// Readers while it writes: with WhenIdle::kCloseForReaders the writer closes
+// the file whenever its queue runs empty (after a run is committed) and opens it
+// again for the next job (Hdf5File::reopen_for_writer), so that h5py, h5ls and
+// `ggk info` can open the file between two commits instead of failing on HDF5's
+// lock until the job ends. In-memory files are never closed.
+//
 // Thread-safety: submit(), submit_and_wait(), wait() and failed() may be called
 // concurrently from any threads except the writer thread itself (a job calling
 // them would wait on itself; that throws std::logic_error). close() and the
@@ -27,6 +33,7 @@
 #include <cstddef>
 #include <deque>
 #include <exception>
+#include <filesystem>
 #include <functional>
 #include <future>
 #include <memory>
@@ -44,9 +51,11 @@ class StoreWriter {
  public:
   using Job = std::function<void(Hdf5File&)>;
   static constexpr std::size_t kDefaultQueueCapacity = 64;
+  enum class WhenIdle { kKeepOpen, kCloseForReaders };
 
   // Takes the file over and starts the writer thread.
-  explicit StoreWriter(Hdf5File file, std::size_t queue_capacity = kDefaultQueueCapacity);
+  explicit StoreWriter(Hdf5File file, std::size_t queue_capacity = kDefaultQueueCapacity,
+                       WhenIdle when_idle = WhenIdle::kKeepOpen);
   // Runs the queued jobs, stops the thread and closes the file. Never throws.
   ~StoreWriter();
 
@@ -89,8 +98,17 @@ class StoreWriter {
   void require_not_writer_thread(const char* what) const;
   [[noreturn]] void rethrow_failure(std::unique_lock<std::mutex>& lock);
 
+  // Writer thread only: closes the file for readers / opens it again.
+  void park_file();
+  void unpark_file();
+
   std::optional<Hdf5File> file_;
   const std::size_t capacity_;
+  const WhenIdle when_idle_;
+  // While parked (closed for readers): where the file is and how it writes.
+  std::filesystem::path parked_path_;
+  int parked_gzip_level_ = 4;
+  bool parked_ = false;
 
   mutable std::mutex mutex_;
   std::condition_variable work_available_;   // writer waits: queue non-empty or stopping

@@ -23,7 +23,9 @@
 
 #include "engine/job/job_file.hpp"
 #include "engine/job/sweep.hpp"
+#include "engine/run/progress.hpp"
 #include "engine/store/hdf5_file.hpp"
+#include "engine/store/results_info.hpp"
 #include "engine/store/run_store.hpp"
 #include "engine/tasks/discrete_protocol.hpp"
 #include "engine/tasks/task_list.hpp"
@@ -247,6 +249,40 @@ bool is_utc_timestamp(const std::string& text) {
 
 // ---------------------------------------------------------------------------
 
+TEST(Progress, EtaIsUnknownUntilTheFirstRunEnds) {
+  EXPECT_EQ(eta_text(0, 10, 30.0), "--");
+  EXPECT_EQ(eta_text(1, 10, 30.0), "270s");
+  EXPECT_EQ(eta_text(10, 10, 30.0), "0s");
+}
+
+TEST(ConfidenceIntervals, StudentTMatchesScipy) {
+  // scipy.stats.t.ppf(0.975, dof)
+  EXPECT_NEAR(student_t_975(1), 12.706205, 1e-6);
+  EXPECT_NEAR(student_t_975(29), 2.045230, 1e-6);
+  EXPECT_NEAR(student_t_975(31), 2.0395134463964077, 1e-5);
+  EXPECT_NEAR(student_t_975(40), 2.0210753829953374, 1e-5);
+  EXPECT_NEAR(student_t_975(100), 1.9839715184496334, 1e-6);
+  EXPECT_NEAR(student_t_975(1000), 1.9623390808264074, 1e-6);
+  const std::vector<double> values = {1.0, 2.0, 3.0, 4.0, std::nan("")};
+  const Interval ci = mean_interval(values);
+  EXPECT_DOUBLE_EQ(ci.estimate, 2.5);
+  // sd = 1.2910, n = 4: half-width t(3) sd / 2 = 2.054
+  EXPECT_NEAR(ci.high - ci.estimate, 3.182446 * std::sqrt(5.0 / 3.0) / 2.0, 1e-5);
+}
+
+TEST(ConfidenceIntervals, WilsonStaysInsideZeroOneAndIsWideAtTheEnds) {
+  const Interval none = wilson_interval(0, 30);
+  EXPECT_EQ(none.estimate, 0.0);
+  EXPECT_EQ(none.low, 0.0);
+  EXPECT_NEAR(none.high, 0.11351, 1e-4);  // statsmodels proportion_confint(0, 30, method="wilson")
+  const Interval all = wilson_interval(30, 30);
+  EXPECT_NEAR(all.low, 1.0 - 0.11351, 1e-4);
+  EXPECT_EQ(all.high, 1.0);
+  const Interval some = wilson_interval(20, 30);
+  EXPECT_NEAR(some.low, 0.48779, 1e-4);
+  EXPECT_NEAR(some.high, 0.80774, 1e-4);
+}
+
 TEST_F(JobRunnerTest, ResultsAreBitIdenticalForOneTwoAndEightThreads) {
   const JobSpec job = load_job("job.toml", determinism_job(dir_ / "unused.h5"));
   const std::vector<std::int32_t> thread_counts = {1, 2, 8};
@@ -263,7 +299,10 @@ TEST_F(JobRunnerTest, ResultsAreBitIdenticalForOneTwoAndEightThreads) {
     for (const TableRow& row : file.read_table("/maze/summary")) {
       EXPECT_NE(std::get<std::string>(row.at(7)), "invalid");
     }
-    EXPECT_GT(file.read_vector<double>("/maze/run_000/fits/ggk/k_0008_brm/weights").size(), 0u);
+    EXPECT_GT(
+        file.read_vector<double>("/maze/run_000/fits/ggk/k_0008_sigma3_brm_lambda1e-06/weights")
+            .size(),
+        0u);
   }
   for (const char* other : {"threads_2.h5", "threads_8.h5"}) {
     SCOPED_TRACE(std::string("threads_1.h5 vs ") + other);
@@ -571,13 +610,16 @@ TEST_F(JobRunnerTest, TooManyKernelsIsAnInvalidFitAndTheOthersStillRun) {
     EXPECT_EQ(status == "invalid", too_many) << status;
     EXPECT_EQ(std::isnan(success), too_many);
   }
-  const std::string group = "/maze/run_002/fits/ogk/k_0050_lstdq";
+  const std::string group = "/maze/run_002/fits/ogk/k_0050_sigma3_lstdq_lambda1e-06";
   EXPECT_EQ(file.read_string_attribute(group, "status"), "invalid");
   EXPECT_NE(file.read_string_attribute(group, "message").find("50 kernels"), std::string::npos);
   EXPECT_TRUE(std::isnan(file.read_double_attribute(group, "success_rate")));
   EXPECT_TRUE(file.read_vector<double>(group + "/weights").empty());
   EXPECT_FALSE(file.exists(group + "/steps_to_goal"));
-  EXPECT_GT(file.read_vector<double>("/maze/run_002/fits/ogk/k_0004_lstdq/weights").size(), 0u);
+  EXPECT_GT(
+      file.read_vector<double>("/maze/run_002/fits/ogk/k_0004_sigma3_lstdq_lambda1e-06/weights")
+          .size(),
+      0u);
 }
 
 TEST_F(JobRunnerTest, FileFollowsTheDocumentedSchema) {
@@ -688,7 +730,8 @@ file = ")" + (dir_ / "schema.h5").string() +
     for (const char* basis : {"ggk", "ogk"}) {
       for (std::int32_t kernels : {4, 8}) {
         char name[64];
-        std::snprintf(name, sizeof name, "%s/fits/%s/k_%04d", group.c_str(), basis, kernels);
+        std::snprintf(name, sizeof name, "%s/fits/%s/k_%04d_sigma5_brm_lambda1e-06", group.c_str(),
+                      basis, kernels);
         const std::string fit = name;
         SCOPED_TRACE(fit);
         ASSERT_TRUE(file.exists(fit));
@@ -724,8 +767,9 @@ file = ")" + (dir_ / "schema.h5").string() +
       }
     }
     // The ggk and ogk fits of a run share its centres (paired comparison).
-    EXPECT_EQ(file.read_vector<std::int32_t>(group + "/fits/ggk/k_0008/centers"),
-              file.read_vector<std::int32_t>(group + "/fits/ogk/k_0008/centers"));
+    EXPECT_EQ(
+        file.read_vector<std::int32_t>(group + "/fits/ggk/k_0008_sigma5_brm_lambda1e-06/centers"),
+        file.read_vector<std::int32_t>(group + "/fits/ogk/k_0008_sigma5_brm_lambda1e-06/centers"));
     EXPECT_EQ(file.read_table(group + "/fit_metrics").size(), 4u);
   }
 

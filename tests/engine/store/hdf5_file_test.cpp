@@ -334,12 +334,14 @@ std::vector<TableColumn> summary_columns() {
   return {{"basis", ColumnType::kString, 8},
           {"kernels", ColumnType::kInt32, 0},
           {"run", ColumnType::kInt64, 0},
-          {"mean_return", ColumnType::kFloat64, 0}};
+          {"mean_return", ColumnType::kFloat64, 0},
+          {"status", ColumnType::kString, 0}};  // variable length
 }
 
 TableRow summary_row(int i) {
   const std::string basis = i % 2 == 0 ? "ggk" : "ogk-θ";  // 7 bytes of UTF-8
-  return {basis, std::int32_t{10 * i}, std::int64_t{i} << 40, 0.5 * i - 3.0};
+  const std::string status = i % 3 == 0 ? "" : std::string(static_cast<std::size_t>(i), 'x') + "é";
+  return {basis, std::int32_t{10 * i}, std::int64_t{i} << 40, 0.5 * i - 3.0, status};
 }
 
 TEST_F(Hdf5FileTest, TableAppendsInBatchesAndReadsBackRowByRow) {
@@ -391,7 +393,7 @@ TEST_F(Hdf5FileTest, BadTableRowsAreRejectedAndAddNothing) {
                        "string of 9 bytes exceeds the column's 8"));
   const std::vector<TableRow> short_row = {TableRow{std::string("ggk")}};
   EXPECT_TRUE(
-      contains(error_message([&] { file.append_rows("t", short_row); }), "1 values for 4 columns"));
+      contains(error_message([&] { file.append_rows("t", short_row); }), "1 values for 5 columns"));
   const auto rows = file.read_table("t");
   ASSERT_EQ(rows.size(), 2U);
   EXPECT_EQ(std::get<std::string>(rows[1][0]), "gaussian");
@@ -400,8 +402,10 @@ TEST_F(Hdf5FileTest, BadTableRowsAreRejectedAndAddNothing) {
                                               {"a", ColumnType::kFloat64, 0}};
   EXPECT_TRUE(contains(error_message([&] { file.create_table("dup", duplicate); }),
                        "duplicate column 'a'"));
-  const std::vector<TableColumn> empty_string = {{"s", ColumnType::kString, 0}};
-  EXPECT_TRUE(contains(error_message([&] { file.create_table("zero", empty_string); }), "size 0"));
+  std::vector<TableRow> with_nul = {summary_row(1)};
+  with_nul[0][4] = std::string("a\0b", 3);  // in the variable-length column
+  EXPECT_TRUE(contains(error_message([&] { file.append_rows("t", with_nul); }),
+                       "column 'status': string contains a NUL character"));
   file.write_vector("not_a_table", std::vector<double>{1.0});
   EXPECT_TRUE(
       contains(error_message([&] { file.append_rows("not_a_table", good); }), "not a table"));

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <unistd.h>
+#include <algorithm>
 
 #include <filesystem>
 #include <set>
@@ -29,8 +30,38 @@ TEST(FitGroupName, DistinctValuesGetDistinctNames) {
   const std::vector<SweepPoint> points = expand_sweep(job);
   for (const SweepPoint& point : points) names.insert(fit_group_name(job, point));
   EXPECT_EQ(names.size(), points.size());
-  EXPECT_TRUE(names.count("ggk/k_0016_sigma10.000001_lambda1e-06")) << *names.begin();
-  EXPECT_TRUE(names.count("ggk/k_0016_sigma2.5_lambda1e-06"));
+  EXPECT_TRUE(names.count("ggk/k_0016_sigma10.000001_brm_lambda1e-06")) << *names.begin();
+  EXPECT_TRUE(names.count("ggk/k_0016_sigma2.5_brm_lambda1e-06"));
+}
+
+TEST(FitGroupName, DoesNotDependOnWhichAxesAreSwept) {
+  // The same fit (16 kernels, sigma 2.5, BRM, lambda 1e-6) in a job sweeping
+  // nothing but kernels and in one sweeping every axis gets one name.
+  JobSpec narrow;
+  narrow.sweep.basis = {KernelType::ggk};
+  narrow.sweep.kernels = {16};
+  narrow.sweep.sigma = {2.5};
+  narrow.sweep.solver = {kernels::LspiSolver::brm};
+  narrow.sweep.lambda = {1e-6};
+  JobSpec wide = narrow;
+  wide.sweep.basis = {KernelType::ogk, KernelType::ggk};
+  wide.sweep.kernels = {4, 16};
+  wide.sweep.sigma = {1.0, 2.5};
+  wide.sweep.solver = {kernels::LspiSolver::lstdq, kernels::LspiSolver::brm};
+  wide.sweep.lambda = {1e-3, 1e-6};
+  const SweepPoint only = expand_sweep(narrow).front();
+  const std::vector<SweepPoint> all = expand_sweep(wide);
+  const auto same = std::find_if(all.begin(), all.end(), [&](const SweepPoint& p) {
+    return p.basis == only.basis && p.kernels == only.kernels && p.sigma == only.sigma &&
+           p.solver == only.solver && p.lambda == only.lambda;
+  });
+  ASSERT_NE(same, all.end());
+  EXPECT_EQ(fit_group_name(narrow, only), "ggk/k_0016_sigma2.5_brm_lambda1e-06");
+  EXPECT_EQ(fit_group_name(wide, *same), fit_group_name(narrow, only));
+  EXPECT_EQ(fit_group_name(*same), fit_group_name(narrow, only));
+  std::set<std::string> names;
+  for (const SweepPoint& point : all) names.insert(fit_group_name(point));
+  EXPECT_EQ(names.size(), all.size());
 }
 
 class RunStoreTest : public ::testing::Test {
@@ -78,6 +109,43 @@ TEST_F(RunStoreTest, DiscardedRunIsGoneAndNotComplete) {
   EXPECT_TRUE(run_is_complete(file, "maze", 0));
   EXPECT_EQ(write_summary(file, "maze", 2), 1);
   EXPECT_FALSE(file.exists(kStagingRoot));
+}
+
+TEST_F(RunStoreTest, NamedArraysAreStoredAsTheirElementType) {
+  JobSpec job;
+  job.task = "maze";
+  RunRecord record;
+  record.run = 4;
+  record.graph.num_nodes = 0;
+  record.graph.indptr = {0};
+  record.arrays = {
+      {"values", {3}, {0.5, -1.0, 2.0}},  // float64 by default
+      {"indices", {2, 2}, {0, 1, 2, -3}, ElementType::kInt32},
+      {"counts", {2}, {0, 4294967296.0}, ElementType::kInt64},
+      {"flags", {3}, {1, 0, 1}, ElementType::kUInt8},
+  };
+  {
+    Hdf5File file = Hdf5File::create(dir_ / "typed.h5");
+    write_run(file, job, record);
+    EXPECT_FALSE(file.exists(kStagingRoot)) << "a committed run leaves no empty /.staging";
+  }
+  const Hdf5File file = Hdf5File::open_read_only(dir_ / "typed.h5");
+  const std::string group = run_group("maze", 4);
+  EXPECT_EQ(file.read_vector<double>(group + "/values"), (std::vector<double>{0.5, -1.0, 2.0}));
+  EXPECT_EQ(file.read_matrix<std::int32_t>(group + "/indices").data,
+            (std::vector<std::int32_t>{0, 1, 2, -3}));
+  EXPECT_EQ(file.read_vector<std::int64_t>(group + "/counts"),
+            (std::vector<std::int64_t>{0, std::int64_t{1} << 32}));
+  EXPECT_EQ(file.read_vector<std::uint8_t>(group + "/flags"), (std::vector<std::uint8_t>{1, 0, 1}));
+  // Reading as another type is refused: the stored type is the declared one.
+  EXPECT_THROW(file.read_vector<double>(group + "/flags"), std::runtime_error);
+
+  // A value that is no integer of the type is a bug of the task, not rounded.
+  Hdf5File other = Hdf5File::create(dir_ / "bad.h5");
+  record.arrays = {{"flags", {2}, {1, 0.5}, ElementType::kUInt8}};
+  EXPECT_THROW(write_run(other, job, record), std::logic_error);
+  record.arrays = {{"flags", {1}, {256}, ElementType::kUInt8}};
+  EXPECT_THROW(write_run(other, job, record), std::logic_error);
 }
 
 TEST(IsScratch, NamesTheWritersScratchOnly) {

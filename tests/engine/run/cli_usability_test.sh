@@ -1,0 +1,178 @@
+#!/usr/bin/env bash
+# The command line helps: through the real ggk binary. One case per call
+# (tests/CMakeLists.txt):
+#   version        ggk --version prints the version and git description, exit 0
+#   spelling       an unknown command or a mistyped option: exit 2, "did you mean"
+#   output_name    -o results.csv (any non-HDF5 name), or such an [output] file, is
+#                  refused with exit 2 before anything is written
+#   info_csv       ggk info --csv: one header and one line per sweep point, the
+#                  means and CI bounds that pandas reads
+#   overrides      --set KEY=VALUE changes the job, is validated like the file
+#                  (a bad value names the option, a file value its line), is
+#                  recorded in the results, and --resume compares the overridden job
+#   relative_paths validate and run resolve a job's paths alike from any working
+#                  directory: files it names from its folder, the output from the
+#                  working directory
+# Environment: GGK (the binary), GGK_SOURCE_DIR.
+set -euo pipefail
+case_name=$1
+scratch=$(mktemp -d "${TMPDIR:-/tmp}/ggk-cli-XXXXXX")
+trap 'rm -rf "$scratch"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+status_of() { local s=0; "$@" >"$scratch/out" 2>"$scratch/err" || s=$?; echo $s; }
+expect_error() {  # status, text the error must contain, command...
+  local want=$1 text=$2
+  shift 2
+  local s
+  s=$(status_of "$@")
+  [ "$s" = "$want" ] || fail "$*: status $s, not $want: $(cat "$scratch/err")"
+  grep -qF -- "$text" "$scratch/err" || fail "$*: no '$text' in: $(cat "$scratch/err")"
+}
+
+write_job() {  # file [extra top-level lines]
+  mkdir -p "$(dirname "$1")/maps"
+  cp "$GGK_SOURCE_DIR/jobs/maps/four-rooms.txt" "$(dirname "$1")/maps/"
+  cat >"$1" <<JOB
+name = "cli"
+task = "maze"
+runs = 2
+seed = 3
+${2:-}
+[sweep]
+basis = ["ggk", "ogk"]
+kernels = [4, 8]
+sigma = [10.0]
+solver = ["brm"]
+[maze]
+map_file = "maps/four-rooms.txt"
+series = 10
+steps_per_series = 100
+JOB
+}
+
+case $case_name in
+version)
+  s=$(status_of "$GGK" --version)
+  [ "$s" = 0 ] || fail "--version: status $s"
+  grep -qE '^ggk [0-9]+\.[0-9]+\.[0-9]+ \(.+\)$' "$scratch/out" || fail "--version: $(cat "$scratch/out")"
+  ;;
+spelling)
+  write_job "$scratch/job.toml"
+  expect_error 2 "unknown command 'rn' (did you mean 'run'?)" "$GGK" rn "$scratch/job.toml"
+  expect_error 2 "unknown command 'vaildate' (did you mean 'validate'?)" "$GGK" vaildate x
+  expect_error 2 "unknown option '--resum' for 'ggk run' (did you mean '--resume'?)" \
+    "$GGK" run "$scratch/job.toml" --resum
+  expect_error 2 "unknown option '--cvs' for 'ggk info' (did you mean '--csv'?)" \
+    "$GGK" info x.h5 --cvs
+  expect_error 2 "unknown option '--overwite' for 'ggk run' (did you mean '--overwrite'?)" \
+    "$GGK" run "$scratch/job.toml" -o "$scratch/x.h5" --overwite
+  # An option's value may start with '-': not taken for an option.
+  s=$(status_of "$GGK" validate "$scratch/job.toml" --set seed=1 -o "$scratch/-x.h5")
+  [ "$s" = 0 ] || fail "an option value starting with '-': $(cat "$scratch/err")"
+  ;;
+output_name)
+  write_job "$scratch/job.toml"
+  for name in results.csv results out.txt; do
+    expect_error 2 "is not a results file name" "$GGK" run "$scratch/job.toml" -q -o "$scratch/$name"
+    [ ! -e "$scratch/$name" ] && [ ! -e "$scratch/$name.part" ] && [ ! -e "$scratch/$name.lock" ] ||
+      fail "-o $name: something was written"
+    expect_error 2 "is not a results file name" "$GGK" validate "$scratch/job.toml" -o "$scratch/$name"
+  done
+  write_job "$scratch/csv.toml" ""
+  printf '[output]\nfile = "%s"\n' "$scratch/r.csv" >>"$scratch/csv.toml"
+  expect_error 2 "csv.toml:" "$GGK" run "$scratch/csv.toml" -q
+  grep -qF "[output] file: '$scratch/r.csv' is not a results file name" "$scratch/err" ||
+    fail "[output] file: $(cat "$scratch/err")"
+  s=$(status_of "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.hdf5")
+  [ "$s" = 0 ] || fail "-o r.hdf5: $(cat "$scratch/err")"
+  expect_error 2 "is not a results file name" "$GGK" merge "$scratch/m.csv" "$scratch/r.hdf5"
+  ;;
+info_csv)
+  write_job "$scratch/job.toml"
+  "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.h5" 2>/dev/null
+  "$GGK" info --csv "$scratch/r.h5" >"$scratch/info.csv"
+  /usr/bin/python3 - "$scratch/info.csv" <<'PY' || fail "info --csv: $(cat "$scratch/info.csv")"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) == 4, rows                       # 2 bases x 2 kernel counts
+assert {r["basis"] for r in rows} == {"ggk", "ogk"}
+assert {r["lambda"] for r in rows} == {"1e-06"}
+for r in rows:
+    assert int(r["fits"]) == 2 and int(r["failed"]) >= 0 and int(r["max_iterations"]) >= 0
+    low, mean, high = (float(r[k]) for k in
+                       ("success_rate_ci_low", "success_rate", "success_rate_ci_high"))
+    assert 0.0 <= low <= mean <= high <= 1.0, r
+PY
+  # The text form: the CI and the fits that stopped at the iteration cap.
+  "$GGK" info "$scratch/r.h5" >"$scratch/info.txt"
+  grep -qE "summary: +8 fits \([0-9]+ failed, [0-9]+ stopped at max_iterations\)" "$scratch/info.txt" ||
+    fail "info: $(cat "$scratch/info.txt")"
+  grep -qE "max_it" "$scratch/info.txt" || fail "info: no max_it column"
+  grep -qE "\[[-0-9.e]+, [-0-9.e]+\]" "$scratch/info.txt" || fail "info: no interval"
+  ;;
+overrides)
+  write_job "$scratch/job.toml"
+  "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.h5" --set runs=3 --set maze.series=12 \
+    --set 'sweep.kernels=[4]' 2>/dev/null || fail "run with --set"
+  "$GGK" info "$scratch/r.h5" | grep -q "runs: *3 of 3 complete" || fail "--set runs=3 not applied"
+  /usr/bin/python3 - "$scratch/r.h5" <<'PY' || fail "overrides not recorded"
+import sys, tomllib, h5py
+with h5py.File(sys.argv[1], "r") as f:
+    job = f.attrs["job"]
+    assert f.attrs["job_overrides"] == "runs=3\nmaze.series=12\nsweep.kernels=[4]"
+    assert len(f["maze/run_000/samples/actions"]) == 12 * 100
+parsed = tomllib.loads(job)
+assert parsed["runs"] == 3 and parsed["maze"]["series"] == 12 and parsed["sweep"]["kernels"] == [4]
+assert job.startswith("# ") and "--set runs=3" in job.splitlines()[0]
+PY
+  # Validated like the file: the option is named for its value, the line for the file's.
+  expect_error 2 "--set runs=0: runs: expected an integer >= 1, got 0" \
+    "$GGK" run "$scratch/job.toml" -q -o "$scratch/x.h5" --set runs=0
+  expect_error 2 "--set maze.sries=3: [maze] sries: unknown key; did you mean 'series'?" \
+    "$GGK" validate "$scratch/job.toml" --set maze.sries=3
+  expect_error 2 "--set runs: expected KEY=VALUE" "$GGK" validate "$scratch/job.toml" --set runs
+  expect_error 2 "--set sweep.solver=brm: [sweep] solver: expected a non-empty array" \
+    "$GGK" validate "$scratch/job.toml" --set sweep.solver=brm
+  write_job "$scratch/bad.toml" 'lspi_x = 1'
+  expect_error 2 "bad.toml:5:" "$GGK" validate "$scratch/bad.toml" --set runs=4
+  [ ! -e "$scratch/x.h5" ] || fail "a refused override wrote results"
+  # A bare word is a string; --resume compares the overridden job.
+  "$GGK" validate "$scratch/job.toml" --set name=other >/dev/null 2>&1 || fail "bare word"
+  s=$(status_of "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.h5" --resume)
+  [ "$s" = 2 ] && grep -q "series: 12 in the results file, 10 in the job file" "$scratch/err" ||
+    fail "--resume without the overrides: $s $(cat "$scratch/err")"
+  s=$(status_of "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.h5" --resume --set runs=3 \
+    --set maze.series=12 --set 'sweep.kernels=[4]')
+  [ "$s" = 0 ] || fail "--resume with the same overrides: $(cat "$scratch/err")"
+  ;;
+relative_paths)
+  mkdir -p "$scratch/project/jobs" "$scratch/project/results" "$scratch/elsewhere"
+  write_job "$scratch/project/jobs/job.toml"
+  cd "$scratch/project"
+  # From the project: the map from the job's folder, the output results/cli.h5 here.
+  s=$(status_of "$GGK" validate jobs/job.toml)
+  [ "$s" = 0 ] || fail "validate from the project: $(cat "$scratch/err")"
+  s=$(status_of "$GGK" run jobs/job.toml -q)
+  [ "$s" = 0 ] && [ -f results/cli.h5 ] || fail "run from the project: $(cat "$scratch/err")"
+  # From the job's folder or elsewhere: the map still resolves; validate and run
+  # both refuse the output (no results/ there) with the same words, and both
+  # accept it given with -o.
+  for dir in "$scratch/project/jobs" "$scratch/elsewhere"; do
+    cd "$dir"
+    job=$scratch/project/jobs/job.toml
+    [ "$dir" = "$scratch/project/jobs" ] && job=job.toml
+    expect_error 2 "relative to the working directory" "$GGK" validate "$job"
+    cp "$scratch/err" "$scratch/validate.err"
+    expect_error 2 "relative to the working directory" "$GGK" run "$job" -q
+    [ "$(sed 's/.*: \[output\]/[output]/' "$scratch/validate.err")" = \
+      "$(sed 's/.*: \[output\]/[output]/' "$scratch/err")" ] || fail "validate and run differ"
+    s=$(status_of "$GGK" validate "$job" -o here.h5)
+    [ "$s" = 0 ] || fail "validate -o from $dir: $(cat "$scratch/err")"
+    s=$(status_of "$GGK" run "$job" -q -o here.h5)
+    [ "$s" = 0 ] && [ -f here.h5 ] || fail "run -o from $dir: $(cat "$scratch/err")"
+  done
+  ;;
+*)
+  fail "unknown case $case_name"
+  ;;
+esac
