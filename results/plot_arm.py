@@ -7,6 +7,11 @@
                         over runs (from A, and from every free pose)
 
     /usr/bin/python3 results/plot_arm.py results/arm-paper.h5 results/figures [--kernels P] [--run R]
+        [--format png|pdf|svg]
+
+Fig. 3 gets a row of panels per value of every swept axis besides kernels and
+basis (solver, sigma, lambda): no axis is pooled. Success from A is a 0/1 outcome
+per run: its intervals are Wilson's; success from all poses uses Student's t.
 """
 
 import argparse
@@ -22,7 +27,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.colors import ListedColormap, SymLogNorm  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from ggk_results import curve, read_summary  # noqa: E402
+from ggk_results import (add_format_argument, curve, error_bars, facet_title, facets,  # noqa: E402
+                         legend_below, read_summary, save)
 
 STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)")}
 
@@ -56,7 +62,13 @@ def extent(shoulders, elbows):
     return [elbows[0] - 2.5, elbows[-1] + 2.5, shoulders[0] - 2.5, shoulders[-1] + 2.5]
 
 
-def fig_state_space(f, out):
+def fit_groups(run, basis, kernels):
+    """The fit groups of `kernels` kernels (several when the job sweeps other
+    axes: fit group names hold every axis value), sorted by name."""
+    return sorted(n for n in run[f"fits/{basis}"] if n.startswith(f"k_{kernels:04d}_"))
+
+
+def fig_state_space(f, out, fmt):
     run = f["arm/run_000"]
     state_of, shoulders, elbows = grid_axes(run)
     goal = run["grid/goal"][:] > 0
@@ -77,18 +89,22 @@ def fig_state_space(f, out):
     ax.set_title(f"arm joint space: {int((state_of >= 0).sum())} free poses")
     ax.legend(loc="upper right", fontsize=8)
     fig.tight_layout()
-    fig.savefig(out / "arm_state_space.png", dpi=120)
+    path = save(fig, out, "arm_state_space", fmt)
     plt.close(fig)
+    return path
 
 
-def fig_values(f, out, kernels, run_index):
+def fig_values(f, out, kernels, run_index, fmt):
     run = f[f"arm/run_{run_index:03d}"]
     state_of, shoulders, elbows = grid_axes(run)
     nodes = run["graph/nodes"][:]
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.5))
     for ax, basis in zip(axes, ("ggk", "ogk")):
-        name = next(n for n in run[f"fits/{basis}"] if n.startswith(f"k_{kernels:04d}"))
-        fit = run[f"fits/{basis}/{name}"]
+        names = fit_groups(run, basis, kernels)
+        if not names:
+            sys.exit(f"plot_arm.py: run {run_index} has no {basis} fit with {kernels} kernels")
+        fit = run[f"fits/{basis}/{names[0]}"]
+        shown = f" ({names[0]})" if len(names) > 1 else ""
         values = on_grid(state_of, fit["state_values"][:])
         # V spans 0.9^80 .. 1: a symmetric log scale shows the far slopes too.
         im = ax.imshow(values, origin="lower", extent=extent(shoulders, elbows), aspect="auto",
@@ -100,36 +116,44 @@ def fig_values(f, out, kernels, run_index):
         ax.plot(e, s, "w-", linewidth=2)
         ax.plot(e[:1], s[:1], "w*", markersize=14)
         reached = fit.attrs["success_from_A"] == 1
-        ax.set_title(f"{STYLE[basis][2]}, {kernels} kernels: from A "
-                     f"{'reaches the goal' if reached else 'fails'}")
+        ax.set_title(f"{STYLE[basis][2]}, {kernels} kernels{shown}: from A "
+                     f"{'reaches the goal' if reached else 'fails'}", fontsize=10)
         ax.set_xlabel("elbow angle (deg)")
         ax.set_ylabel("shoulder angle (deg)")
     fig.tight_layout()
-    fig.savefig(out / "arm_values.png", dpi=120)
+    path = save(fig, out, "arm_values", fmt)
     plt.close(fig)
+    return path
 
 
-def fig_success(path, out):
+def fig_success(path, out, fmt):
     summary = read_summary(path, "arm")
     runs = len(set(summary["run"]))
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
-    panels = (("success_from_A", "success from A (% of runs)"),
-              ("success_rate", "success from all free poses (%)"))
-    for ax, (metric, label) in zip(axes, panels):
-        for basis in ("ggk", "ogk"):
-            k, mean, half = curve(summary, metric, basis=basis)
-            color, marker, name = STYLE[basis]
-            ax.errorbar(k, 100 * mean, yerr=100 * half, color=color, marker=marker, capsize=3,
-                        label=name)
-        ax.set_xlabel("number of kernels")
-        ax.set_ylabel(label)
-        ax.set_ylim(0, 100)
-        ax.grid(alpha=0.3)
-        ax.legend()
+    rows = facets(summary, shown=("kernels", "basis"))
+    fig, axes = plt.subplots(len(rows), 2, figsize=(11, 4 * len(rows)), squeeze=False)
+    metrics = (("success_from_A", "success from A (% of runs, Wilson CI)"),
+               ("success_rate", "success from all free poses (%, t CI)"))
+    for row, facet in zip(axes, rows):
+        for ax, (metric, label) in zip(row, metrics):
+            for basis in ("ggk", "ogk"):
+                k, est, low, high = curve(summary, metric, basis=basis, **facet)
+                if len(k) == 0:
+                    continue
+                color, marker, name = STYLE[basis]
+                ax.errorbar(k, 100 * est, yerr=100 * error_bars(est, low, high), color=color,
+                            marker=marker, capsize=3, label=name)
+            ax.set_xlabel("number of kernels")
+            ax.set_ylabel(label)
+            if facet:
+                ax.set_title(facet_title(facet), fontsize=10)
+            ax.set_ylim(0, 100)
+            ax.grid(alpha=0.3)
+            legend_below(ax)
     fig.suptitle(f"robot arm, {runs} runs, 95 % CI")
     fig.tight_layout()
-    fig.savefig(out / "arm_success.png", dpi=120)
+    saved = save(fig, out, "arm_success", fmt)
     plt.close(fig)
+    return saved
 
 
 def main():
@@ -139,6 +163,7 @@ def main():
     parser.add_argument("--kernels", type=int, default=None,
                         help="kernel count of Fig. 2 (default: the largest swept)")
     parser.add_argument("--run", type=int, default=0, help="run shown in Fig. 2")
+    add_format_argument(parser)
     args = parser.parse_args()
     out = Path(args.out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -146,11 +171,11 @@ def main():
         kernels = args.kernels
         if kernels is None:
             kernels = int(max(read_summary(args.results, "arm")["kernels"]))
-        fig_state_space(f, out)
-        fig_values(f, out, kernels, args.run)
-    fig_success(args.results, out)
-    for name in ("arm_state_space.png", "arm_values.png", "arm_success.png"):
-        print(out / name)
+        paths = [fig_state_space(f, out, args.format),
+                 fig_values(f, out, kernels, args.run, args.format)]
+    paths.append(fig_success(args.results, out, args.format))
+    for path in paths:
+        print(path)
 
 
 if __name__ == "__main__":

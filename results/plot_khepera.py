@@ -41,7 +41,10 @@ from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from ggk_results import curve, read_summary  # noqa: E402
+from ggk_results import (add_format_argument, curve, error_bars, facet_title, facets,  # noqa: E402
+                         legend_below, read_summary, save)
+
+FORMAT = "png"  # --format: the file type of every figure
 
 STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)")}
 # Actions of sims/khepera (motion.hpp): symbol and colour as in paper Fig. 5.
@@ -70,7 +73,7 @@ def text(value):
 def fit_group(run, basis, kernels, solver):
     """The fit of `basis` with `kernels` centres and `solver` (the first if other
     axes were swept)."""
-    names = sorted(n for n in run[f"fits/{basis}"] if n.startswith(f"k_{kernels:04d}")
+    names = sorted(n for n in run[f"fits/{basis}"] if n.startswith(f"k_{kernels:04d}_")
                    and text(run[f"fits/{basis}/{n}"].attrs["solver"]) == solver)
     if not names:
         sys.exit(f"no {basis} fit with {kernels} kernels and {solver} in {run.name}")
@@ -172,7 +175,7 @@ def fig_graph(f, out, run_index, threshold, prefix):
     ax.set_aspect("equal", adjustable="datalim")
     ax.autoscale_view()
     fig.tight_layout()
-    fig.savefig(out / f"{prefix}_graph.png", dpi=120)
+    save(fig, out, f"{prefix}_graph", FORMAT, dpi=120)
     plt.close(fig)
 
 
@@ -249,7 +252,7 @@ def fig_policies(f, out, run_index, kernels, solver, prefix):
                      frameon=False)
     fig.suptitle(f"greedy action per SOM unit, run {run_index}: GGK and OGK differ at "
                  f"{differ} of {int(occupied.sum())} units")
-    fig.savefig(out / f"{prefix}_policies.png", dpi=110)
+    save(fig, out, f"{prefix}_policies", FORMAT, dpi=110)
     plt.close(fig)
 
 
@@ -257,32 +260,46 @@ def fig_return(path, out, test_max_steps, prefix):
     summary = read_summary(path, "khepera")
     runs = len(set(summary["run"]))
     solvers = sorted(set(summary["solver"]))
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    # A row of panels per value of every other swept axis (sigma, lambda): no
+    # axis is pooled; solvers are told apart by line style.
+    rows = facets(summary, shown=("kernels", "basis", "solver"))
+    fig, axes = plt.subplots(len(rows), 2, figsize=(11, 4.6 * len(rows)), squeeze=False)
     panels = (("mean_return", 1, f"mean evaluation return (at most {test_max_steps})"),
               ("collision_fraction", 100, "episodes stopped by a collision (%)"))
-    for ax, (metric, factor, label) in zip(axes, panels):
-        for s_index, solver in enumerate(solvers):
-            for basis in ("ggk", "ogk"):
-                if not np.any((summary["basis"] == basis) & (summary["solver"] == solver)):
-                    continue
-                k, mean, half = curve(summary, metric, basis=basis, solver=solver)
-                color, marker, name = STYLE[basis]
-                # Curves shifted a little sideways so that the CIs do not overprint.
-                slot = 2 * s_index + (0 if basis == "ggk" else 1) - (len(solvers) - 0.5)
-                dodge = slot * 0.005 * max(1, np.ptp(summary["kernels"]))
-                ax.errorbar(k + dodge, factor * mean, yerr=factor * half, color=color,
-                            marker=marker, linestyle=("-", "--", ":")[s_index % 3], capsize=3,
-                            label=f"{name}, {solver.upper()}" if len(solvers) > 1 else name)
-        ax.set_xlabel("number of kernels")
-        ax.set_ylabel(label)
-        ax.grid(alpha=0.3)
-        ax.legend()
-    axes[1].set_ylim(0, max(10, axes[1].get_ylim()[1]))
+    for row, facet in zip(axes, rows):
+        for ax, (metric, factor, label) in zip(row, panels):
+            lowest = 0.0
+            for s_index, solver in enumerate(solvers):
+                for basis in ("ggk", "ogk"):
+                    k, est, low, high = curve(summary, metric, basis=basis, solver=solver,
+                                              **facet)
+                    if len(k) == 0:
+                        continue
+                    lowest = min(lowest, float(np.nanmin(factor * low)) if np.any(
+                        np.isfinite(low)) else 0.0)
+                    color, marker, name = STYLE[basis]
+                    # Curves shifted a little sideways so that the CIs do not overprint.
+                    slot = 2 * s_index + (0 if basis == "ggk" else 1) - (len(solvers) - 0.5)
+                    dodge = slot * 0.005 * max(1, np.ptp(summary["kernels"]))
+                    ax.errorbar(k + dodge, factor * est,
+                                yerr=factor * error_bars(est, low, high), color=color,
+                                marker=marker, linestyle=("-", "--", ":")[s_index % 3], capsize=3,
+                                label=f"{name}, {solver.upper()}" if len(solvers) > 1 else name)
+            ax.set_xlabel("number of kernels")
+            ax.set_ylabel(label)
+            if facet:
+                ax.set_title(facet_title(facet), fontsize=10)
+            # The whole range a value can take (a return of at most test_max_steps,
+            # a percentage), so that an effect reads at its size.
+            ax.set_ylim(lowest, test_max_steps if metric == "mean_return" else 100)
+            ax.grid(alpha=0.3)
+            legend_below(ax)
     fig.suptitle(f"Khepera, {runs} runs, {test_max_steps} greedy steps from the start pose "
                  f"(+1 forward, -2 collision), 95 % CI")
     fig.tight_layout()
-    fig.savefig(out / f"{prefix}_return.png", dpi=120)
+    saved = save(fig, out, f"{prefix}_return", FORMAT, dpi=120)
     plt.close(fig)
+    return saved
 
 
 def draw_arena(ax, arena):
@@ -389,7 +406,7 @@ def fig_trajectories(f, out, run_index, kernels, solver, arena, radius, test_max
     legend_ax.legend(handles=handles, loc="center", ncol=4, fontsize=9, frameon=False)
     fig.suptitle(f"evaluation trajectories ({test_max_steps} greedy steps at most), "
                  "one colour per episode; actions of the steps read off the poses")
-    fig.savefig(out / f"{prefix}_trajectories.png", dpi=120)
+    save(fig, out, f"{prefix}_trajectories", FORMAT, dpi=120)
     plt.close(fig)
 
 
@@ -410,7 +427,10 @@ def main():
                         help="solver of Fig. 5 and the trajectories (default: brm if swept)")
     parser.add_argument("--prefix", default="khepera",
                         help="file names PREFIX_graph.png, ... (default: khepera)")
+    add_format_argument(parser)
     args = parser.parse_args()
+    global FORMAT
+    FORMAT = args.format
     out = Path(args.out_dir)
     out.mkdir(parents=True, exist_ok=True)
     summary = read_summary(args.results, "khepera")
@@ -433,7 +453,7 @@ def main():
                          args.prefix)
     fig_return(args.results, out, test_max_steps, args.prefix)
     for name in ("graph", "policies", "return", "trajectories"):
-        print(out / f"{args.prefix}_{name}.png")
+        print(out / f"{args.prefix}_{name}.{args.format}")
 
 
 if __name__ == "__main__":

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# One command on a fresh Debian 12 machine: install the packages, build ggk, run
-# the default job (jobs/quick.toml) and say where its results are.
+# One command on a fresh Debian 12 machine: install the packages, build ggk, and
+# run a reduced reproduction of the paper (both tasks, 2 runs each, under 2
+# minutes on 2 cores: scripts/reproduce.sh --quick), ending with the paper's
+# figures on disk and where they are.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/build.sh
-mkdir -p results
-build/ggk run jobs/quick.toml --overwrite
-build/ggk info results/quick.h5
+bash scripts/reproduce.sh --quick

@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# The paper's figures in one command: runs the jobs (with --resume, so what is
+# already complete is skipped and a killed reproduction continues) and draws
+# every figure, then prints the claims table (ggk info of each results file).
+#
+#   bash scripts/reproduce.sh            # full scale: maze, arm (Figs. 1-3),
+#                                        # Khepera (Figs. 4-6) and the 45-degree
+#                                        # study -> results/*.h5, results/figures/
+#   bash scripts/reproduce.sh --quick    # reduced: the paper's arm and Khepera jobs
+#                                        # with fewer runs and kernel counts (--set),
+#                                        # under 2 minutes on 2 cores
+#                                        # -> out/quick/*.h5, out/quick/figures/
+#   extra arguments go to every `ggk run` (e.g. -j 8)
+# Needs build/ggk (scripts/build.sh) and /usr/bin/python3 with h5py, scipy, matplotlib.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+quick=0
+if [ "${1:-}" = "--quick" ]; then
+  quick=1
+  shift
+fi
+ggk=${GGK:-build/ggk}  # GGK=path/to/ggk for another build
+python=/usr/bin/python3
+[ -x "$ggk" ] || { echo "reproduce.sh: no $ggk: run scripts/build.sh first" >&2; exit 2; }
+
+run() {  # job output [extra ggk run arguments]
+  local job=$1 out=$2
+  shift 2
+  echo "== $job -> $out" >&2
+  "$ggk" run "$job" -o "$out" --resume "$@"
+}
+
+if [ $quick = 1 ]; then
+  dir=out/quick
+  figures=$dir/figures
+  mkdir -p "$figures"
+  # The paper-scale samples, graphs and SOM, fewer runs and kernel counts.
+  run jobs/arm-paper.toml "$dir/arm.h5" --set runs=10 --set "sweep.kernels=[16,32,64,128]" "$@"
+  run jobs/khepera-paper.toml "$dir/khepera.h5" --set runs=4 --set "sweep.kernels=[10,50,100]" \
+    --set 'sweep.solver=["brm"]' "$@"
+  $python results/plot_arm.py "$dir/arm.h5" "$figures"
+  $python results/plot_khepera.py "$dir/khepera.h5" "$figures"
+  echo "== claims (reduced: 10 and 4 runs, wide intervals)" >&2
+  for f in "$dir/arm.h5" "$dir/khepera.h5"; do "$ggk" info "$f"; echo; done
+  echo "reproduce.sh: the reduced reproduction's figures are in $figures/, e.g." \
+    "$figures/arm_success.png (paper Fig. 3) and $figures/khepera_return.png (Fig. 6);" \
+    "bash scripts/reproduce.sh runs the paper at full scale" >&2
+  exit 0
+fi
+
+figures=results/figures
+mkdir -p "$figures"
+run jobs/maze.toml results/maze.h5 "$@"
+run jobs/arm-paper.toml results/arm-paper.h5 "$@"
+run jobs/khepera-paper.toml results/khepera-paper.h5 "$@"
+run jobs/khepera-turn45.toml results/khepera-turn45.h5 "$@"
+run jobs/khepera-turn45-widths.toml results/khepera-turn45-widths.h5 "$@"
+$python results/plot_maze.py results/maze.h5 "$figures"
+$python results/plot_arm.py results/arm-paper.h5 "$figures" --kernels 128
+$python results/plot_khepera.py results/khepera-paper.h5 "$figures"
+$python results/plot_khepera.py results/khepera-turn45.h5 "$figures" --prefix khepera_turn45
+for extra in results/plot_arm_workspace.py results/plot_khepera_arena.py; do
+  # Figures of the simulators' geometry, where this checkout has them.
+  if [ -f "$extra" ]; then
+    case $extra in
+      *arm*) input=results/arm-paper.h5 ;;
+      *) input=results/khepera-paper.h5 ;;
+    esac
+    $python "$extra" "$input" "$figures" || echo "reproduce.sh: warning: $extra failed" >&2
+  fi
+done
+echo "== claims" >&2
+for f in results/maze.h5 results/arm-paper.h5 results/khepera-paper.h5 \
+  results/khepera-turn45.h5 results/khepera-turn45-widths.h5; do
+  "$ggk" info "$f"
+  echo
+done
+echo "reproduce.sh: every figure is in $figures/ (what each shows: README.md)" >&2
