@@ -8,13 +8,17 @@
 #include <filesystem>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "engine/job/job_file.hpp"
 #include "engine/run/job_runner.hpp"
 #include "engine/tasks/task_list.hpp"
+#include "kernels/graph_diagnostics.hpp"
+#include "kernels/shortest_paths.hpp"
 #include "sims/arm/arm.hpp"
+#include "sims/arm/kinematics.hpp"
 
 namespace ggk::engine {
 namespace {
@@ -85,6 +89,91 @@ TEST(ArmTask, QuickJobRunsThePaperProtocol) {
   // Within 2 % of the paper's 1605 graph nodes.
   const double nodes = metric(record.fits.front(), "graph_nodes");
   EXPECT_NEAR(nodes, 1605.0, 0.02 * 1605.0);
+}
+
+// The graph diagnostics of every fit (issue 11), recomputed from the stored run:
+// the graph's edges and degrees, the stretch over the centres of the largest fit,
+// and the kernel gap by brute force from Dijkstra's distances and Eqs. (7), (8).
+// And the workspace arrays of Fig. 1(a).
+TEST(ArmTask, DiagnosticsAndWorkspaceMatchTheStoredRun) {
+  const char* source_dir = std::getenv("GGK_SOURCE_DIR");
+  ASSERT_NE(source_dir, nullptr) << "ctest sets GGK_SOURCE_DIR";
+  JobLoadOptions options;
+  options.check_output = false;
+  const JobSpec job = load_job_file(std::filesystem::path(source_dir) / "jobs" / "arm-quick.toml",
+                                    task_tables(), options);
+  const auto& config = task_config_as<sims::arm::ArmConfig>(job);
+  const sims::arm::Arm arm(config);
+  const RunRecord record = compute_run(job, 0);
+
+  const NamedArray* visited_array = array(record.arrays, "graph/visited");
+  ASSERT_NE(visited_array, nullptr);
+  std::vector<std::uint8_t> visited;
+  std::vector<std::int32_t> visited_states;
+  for (std::size_t s = 0; s < visited_array->values.size(); ++s) {
+    visited.push_back(visited_array->values[s] != 0.0 ? 1 : 0);
+    if (visited.back()) visited_states.push_back(static_cast<std::int32_t>(s));
+  }
+  // Edges by hand: every stored arc u -> v with u < v (the graph is undirected).
+  std::int64_t edges = 0;
+  for (std::int32_t u = 0; u < record.graph.num_nodes; ++u) {
+    for (std::int32_t v : record.graph.neighbors(u)) edges += u < v;
+  }
+  const FitRecord* largest = &record.fits.front();
+  for (const FitRecord& fit : record.fits) {
+    if (fit.point.kernels > largest->point.kernels) largest = &fit;
+  }
+  const kernels::RowMatrixXd largest_sp =
+      kernels::geodesic_distances(record.graph, largest->centers);
+  const double stretch =
+      kernels::geodesic_stretch(largest_sp, largest->centers, record.node_states);
+  EXPECT_GT(stretch, 1.0);  // the obstacles make some paths longer than lines
+
+  for (const FitRecord& fit : record.fits) {
+    SCOPED_TRACE(std::string(kernel_type_name(fit.point.basis)) + " " +
+                 std::to_string(fit.point.kernels));
+    EXPECT_EQ(metric(fit, "edges"), static_cast<double>(edges));
+    EXPECT_EQ(metric(fit, "median_degree"), kernels::median_degree(record.graph, visited));
+    EXPECT_EQ(metric(fit, "geodesic_stretch"), stretch);
+    const kernels::RowMatrixXd sp = kernels::geodesic_distances(record.graph, fit.centers);
+    const double two_sigma2 = 2.0 * fit.point.sigma * fit.point.sigma;
+    double sum = 0.0;
+    for (std::size_t j = 0; j < fit.centers.size(); ++j) {
+      for (std::int32_t s : visited_states) {
+        const double g = sp(static_cast<Eigen::Index>(j), s);
+        const double e =
+            (record.node_states.row(s) - record.node_states.row(fit.centers[j])).norm();
+        const double k_ggk = std::isinf(g) ? 0.0 : std::exp(-g * g / two_sigma2);
+        sum += std::abs(k_ggk - std::exp(-e * e / two_sigma2));
+      }
+    }
+    const double gap = sum / static_cast<double>(fit.centers.size() * visited_states.size());
+    EXPECT_NEAR(metric(fit, "kernel_gap"), gap, 1e-12 * std::max(gap, 1.0));
+    EXPECT_GT(gap, 0.0);
+  }
+
+  // Fig. 1(a): A's end effector and every goal pose's, by forward kinematics.
+  const NamedArray* pose_a = array(record.arrays, "workspace/pose_A");
+  ASSERT_NE(pose_a, nullptr);
+  const sims::arm::ArmPose a = sims::arm::forward_kinematics(
+      config.geometry, config.start_A.shoulder_deg, config.start_A.elbow_deg);
+  EXPECT_EQ(pose_a->values, (std::vector<double>{a.base.x, a.base.y, a.elbow.x, a.elbow.y,
+                                                 a.end_effector.x, a.end_effector.y}));
+  const NamedArray* goals = array(record.arrays, "workspace/goal_poses");
+  ASSERT_NE(goals, nullptr);
+  ASSERT_EQ(goals->shape, (std::vector<std::int64_t>{16, 6}));
+  const sims::Disc& object = config.geometry.object;
+  for (std::size_t g = 0; g < 16; ++g) {
+    const double dx = goals->values[6 * g + 4] - object.center.x;
+    const double dy = goals->values[6 * g + 5] - object.center.y;
+    EXPECT_LE(std::hypot(dx, dy), object.radius + 1e-12) << "goal " << g;
+  }
+  const NamedArray* rectangles = array(record.arrays, "workspace/rectangles");
+  const NamedArray* discs = array(record.arrays, "workspace/discs");
+  ASSERT_NE(rectangles, nullptr);
+  ASSERT_NE(discs, nullptr);
+  EXPECT_EQ(rectangles->shape[0] + discs->shape[0],
+            static_cast<std::int64_t>(config.geometry.obstacles.size()));
 }
 
 }  // namespace

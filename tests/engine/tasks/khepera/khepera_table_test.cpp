@@ -22,6 +22,8 @@
 #include "engine/run/job_runner.hpp"
 #include "engine/tasks/khepera/khepera_task.hpp"
 #include "engine/tasks/task_list.hpp"
+#include "kernels/graph_diagnostics.hpp"
+#include "kernels/shortest_paths.hpp"
 #include "sims/khepera/khepera.hpp"
 
 namespace ggk::engine {
@@ -685,6 +687,62 @@ std::vector<double> values_of(const Eigen::VectorXd& v) {
 RunRecord run_with_threads(const JobSpec& job, std::int32_t run, std::size_t threads) {
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   return compute_run(job, run);
+}
+
+// The graph diagnostics (issue 11) recomputed from the stored run, and the
+// arena arrays of Fig. 4(a) against the simulator.
+TEST(KheperaJob, DiagnosticsAndArenaMatchTheStoredRun) {
+  const JobSpec job = parse_job(std::string(kKheperaJob) + "[basis]\nscheme = \"copy\"\n",
+                                "tiny.toml", task_tables(), no_output_check());
+  const RunRecord record = compute_run(job, 0);
+  const KheperaTaskConfig& config = khepera_config(job);
+  const khepera::Khepera robot(config.simulator);
+
+  std::vector<std::uint8_t> occupied(static_cast<std::size_t>(record.graph.num_nodes), 0);
+  for (const NamedArray& a : record.arrays) {
+    if (a.name != "graph/occupied") continue;
+    for (std::size_t u = 0; u < a.values.size(); ++u) occupied[u] = a.values[u] != 0.0;
+  }
+  std::int64_t edges = 0;
+  for (std::int32_t u = 0; u < record.graph.num_nodes; ++u) {
+    for (std::int32_t v : record.graph.neighbors(u)) edges += u < v;
+  }
+  ASSERT_EQ(record.fits.size(), 2u);
+  for (const FitRecord& fit : record.fits) {
+    const std::map<std::string, double> metrics(fit.metrics.begin(), fit.metrics.end());
+    EXPECT_EQ(metrics.at("edges"), static_cast<double>(edges));
+    EXPECT_EQ(metrics.at("median_degree"), kernels::median_degree(record.graph, occupied));
+    const kernels::RowMatrixXd sp = kernels::geodesic_distances(record.graph, fit.centers);
+    EXPECT_EQ(metrics.at("geodesic_stretch"),
+              kernels::geodesic_stretch(sp, fit.centers, record.node_states));
+    EXPECT_GE(metrics.at("geodesic_stretch"), 1.0);
+    EXPECT_GT(metrics.at("kernel_gap"), 0.0);
+    EXPECT_LT(metrics.at("kernel_gap"), 1.0);
+  }
+  // GGK and OGK fits of one sweep point share centres and width: the same gap.
+  EXPECT_EQ(record.fits[0].metrics.back(), record.fits[1].metrics.back());
+
+  std::map<std::string, const NamedArray*> arrays;
+  for (const NamedArray& a : record.arrays) arrays[a.name] = &a;
+  const khepera::Pose start = robot.start_pose();
+  EXPECT_EQ(arrays.at("arena/start")->values,
+            (std::vector<double>{start.x, start.y, start.heading}));
+  const khepera::Readings clean = robot.sense_noiseless(start);
+  EXPECT_EQ(arrays.at("robot/start_readings")->values,
+            std::vector<double>(clean.begin(), clean.end()));
+  const NamedArray& rays = *arrays.at("robot/start_rays");
+  ASSERT_EQ(rays.shape, (std::vector<std::int64_t>{24, 5}));
+  for (std::int32_t i = 0; i < khepera::kNumSensors; ++i) {
+    const khepera::SensorRays hit = robot.sensor_rays(start, i);
+    const double distances[3] = {hit.left, hit.centre, hit.right};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double* ray = &rays.values[(3 * static_cast<std::size_t>(i) + k) * 5];
+      const double length = std::hypot(ray[2] - ray[0], ray[3] - ray[1]);
+      const bool seen = distances[k] <= config.simulator.sensors.range;
+      EXPECT_EQ(ray[4], seen ? 1.0 : 0.0);
+      EXPECT_NEAR(length, seen ? distances[k] : config.simulator.sensors.range, 1e-9);
+    }
+  }
 }
 
 TEST(KheperaJob, TinyRunFitsAndIsIdenticalForOneAndTwoThreads) {
