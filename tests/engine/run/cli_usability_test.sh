@@ -10,6 +10,8 @@
 #   overrides      --set KEY=VALUE changes the job, is validated like the file
 #                  (a bad value names the option, a file value its line), is
 #                  recorded in the results, and --resume compares the overridden job
+#   old_layout     a results file of an older layout (no 'layout' attribute) is
+#                  read by info and verify, refused by --resume and merge (exit 2)
 #   relative_paths validate and run resolve a job's paths alike from any working
 #                  directory: files it names from its folder, the output from the
 #                  working directory
@@ -144,6 +146,22 @@ PY
   s=$(status_of "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.h5" --resume --set runs=3 \
     --set maze.series=12 --set 'sweep.kernels=[4]')
   [ "$s" = 0 ] || fail "--resume with the same overrides: $(cat "$scratch/err")"
+  ;;
+old_layout)
+  write_job "$scratch/job.toml"
+  "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.h5" 2>/dev/null
+  /usr/bin/python3 -c "
+import sys, h5py
+with h5py.File(sys.argv[1], 'a') as f:
+    assert f.attrs['layout'] == 2
+    del f.attrs['layout']
+" "$scratch/r.h5"
+  "$GGK" info "$scratch/r.h5" | grep -q "runs: *2 of 2 complete" || fail "info of an old file"
+  "$GGK" verify "$scratch/r.h5" >/dev/null || fail "verify of an old file"
+  expect_error 2 "it has results layout 1 (written by an older ggk" \
+    "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.h5" --resume
+  expect_error 2 "cannot merge $scratch/r.h5: it has results layout 1" \
+    "$GGK" merge "$scratch/m.h5" "$scratch/r.h5"
   ;;
 relative_paths)
   mkdir -p "$scratch/project/jobs" "$scratch/project/results" "$scratch/elsewhere"
