@@ -1,6 +1,5 @@
 #include "kernels/gaussian_kernels.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -23,30 +22,31 @@ void check_width(double sigma, double truncation) {
 
 // Fills an N x p sparse matrix row by row from kernel_of(i, j), dropping values
 // below the truncation threshold (and exact zeros). The entries come in row order,
-// columns ascending, so they go straight into the compressed arrays.
+// columns ascending, so they are written straight into the compressed arrays,
+// sized for a dense table and cut to the entries kept (pages never written are
+// never touched).
 template <typename KernelOf>
 SparseRowMatrix build_kernel_matrix(Eigen::Index rows, Eigen::Index cols, double truncation,
                                     KernelOf kernel_of) {
-  std::vector<double> values;
-  std::vector<std::int32_t> columns;
-  values.reserve(static_cast<std::size_t>(rows * cols));
-  columns.reserve(static_cast<std::size_t>(rows * cols));
   SparseRowMatrix matrix(rows, cols);
+  matrix.resizeNonZeros(rows * cols);
   auto* outer = matrix.outerIndexPtr();
+  auto* columns = matrix.innerIndexPtr();
+  double* values = matrix.valuePtr();
+  std::int32_t count = 0;
   outer[0] = 0;
   for (Eigen::Index i = 0; i < rows; ++i) {
     for (Eigen::Index j = 0; j < cols; ++j) {
       const double k = kernel_of(i, j);
       if (k > 0.0 && k >= truncation) {
-        values.push_back(k);
-        columns.push_back(static_cast<std::int32_t>(j));
+        values[count] = k;
+        columns[count] = static_cast<std::int32_t>(j);
+        ++count;
       }
     }
-    outer[i + 1] = static_cast<std::int32_t>(values.size());
+    outer[i + 1] = count;
   }
-  matrix.resizeNonZeros(static_cast<Eigen::Index>(values.size()));
-  std::copy(values.begin(), values.end(), matrix.valuePtr());
-  std::copy(columns.begin(), columns.end(), matrix.innerIndexPtr());
+  matrix.resizeNonZeros(count);
   return matrix;
 }
 

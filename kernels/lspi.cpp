@@ -304,8 +304,12 @@ LspiResult fit_lspi_copy_basis(const SparseRowMatrix& state_kernels, std::int32_
                                const SampleBatch& samples, const LspiOptions& options) {
   check_options(num_actions, options);
   samples.validate(static_cast<std::int32_t>(state_kernels.rows()), num_actions);
-  SparseRowMatrix kernels = state_kernels;  // compressed, as copy_greedy reads it
-  kernels.makeCompressed();
+  SparseRowMatrix compressed;  // copy_greedy reads the compressed arrays
+  if (!state_kernels.isCompressed()) {
+    compressed = state_kernels;
+    compressed.makeCompressed();
+  }
+  const SparseRowMatrix& kernels = state_kernels.isCompressed() ? state_kernels : compressed;
   const auto num_states = static_cast<std::size_t>(kernels.rows());
   ActionBlockSystem system(ActionBlockSystem::copy_basis_tag, kernels, num_actions, samples,
                            options.solver, options.gamma);
