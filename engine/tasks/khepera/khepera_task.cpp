@@ -209,25 +209,28 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   kernel_gap = fit_kernel_gap(ctx, fit.centers, point.sigma);
   const double truncation = ctx.job->basis.truncation;
 
-  // State kernels of every reading of the walks.
-  kernels::SparseRowMatrix state_kernels;
-  if (point.basis == KernelType::ggk) {
-    state_kernels = kernels::continuous_geodesic_gaussian_kernels(
-        ctx.state_units.units, ctx.state_units.distances,
-        ctx.center_distances.topRows(point.kernels), point.sigma, truncation);
-  } else {
+  // State kernels of every reading of the walks (initialised in place: Eigen's
+  // sparse assignment would copy the table).
+  const kernels::SparseRowMatrix state_kernels = [&] {
+    if (point.basis == KernelType::ggk) {
+      return kernels::continuous_geodesic_gaussian_kernels(
+          ctx.state_units.units, ctx.state_units.distances,
+          ctx.center_distances.topRows(point.kernels), point.sigma, truncation);
+    }
     kernels::RowMatrixXd center_vectors(point.kernels, khepera::kNumSensors);
     for (std::int32_t j = 0; j < point.kernels; ++j) {
       center_vectors.row(j) = ctx.som->prototypes().row(fit.centers[static_cast<std::size_t>(j)]);
     }
-    state_kernels = kernels::ordinary_gaussian_kernels(ctx.walks->readings, center_vectors,
-                                                       point.sigma, truncation);
-  }
-  const kernels::SparseRowMatrix features = ctx.job->basis.scheme == kernels::BasisScheme::shift
-                                                ? kernels::shift_basis(state_kernels, m, *ctx.model)
-                                                : kernels::copy_basis(state_kernels, m);
-
-  fit.lspi = kernels::fit_lspi(features, m, ctx.batch, lspi_options(*ctx.job, point));
+    return kernels::ordinary_gaussian_kernels(ctx.walks->readings, center_vectors, point.sigma,
+                                              truncation);
+  }();
+  // The copy scheme's table is never formed: fit_lspi_copy_basis reads the state
+  // kernels (the same result bit for bit).
+  fit.lspi = ctx.job->basis.scheme == kernels::BasisScheme::shift
+                 ? kernels::fit_lspi(kernels::shift_basis(state_kernels, m, *ctx.model), m,
+                                     ctx.batch, lspi_options(*ctx.job, point))
+                 : kernels::fit_lspi_copy_basis(state_kernels, m, ctx.batch,
+                                                lspi_options(*ctx.job, point));
   fit.status = kernels::to_string(fit.lspi.status);
   fit.message = fit.lspi.message;
   if (fit.lspi.weights.size() == 0) {
