@@ -1,5 +1,7 @@
 #include "kernels/action_block_system.hpp"
 
+#include <string>
+
 #include <gtest/gtest.h>
 
 #include "kernels/random_stream.hpp"
@@ -144,8 +146,13 @@ TEST_P(ActionBlockSystemTest, UpdateEqualsTheFullRebuild) {
   }
 }
 
+// Readable test names ("brm"), not gtest's byte dumps.
+std::string solver_case_name(const testing::TestParamInfo<LspiSolver>& param) {
+  return to_string(param.param);
+}
+
 INSTANTIATE_TEST_SUITE_P(Solvers, ActionBlockSystemTest,
-                         testing::Values(LspiSolver::brm, LspiSolver::lstdq));
+                         testing::Values(LspiSolver::brm, LspiSolver::lstdq), solver_case_name);
 
 TEST(ActionBlockSystem, NamesTheFirstRowOutsideItsBlock) {
   SparseRowMatrix features(4, 4);  // 2 states x 2 actions, p = 2

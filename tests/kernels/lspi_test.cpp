@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -139,12 +140,24 @@ TEST_P(TabularLspiEqualsPolicyIteration, PolicyAndQMatch) {
   }
 }
 
+// Readable test names ("lstdq_stochastic_terminal"), not gtest's byte dumps.
+std::string tabular_case_name(const testing::TestParamInfo<TabularCase>& param) {
+  return std::string(to_string(param.param.solver)) +
+         (param.param.deterministic ? "_deterministic" : "_stochastic") +
+         (param.param.with_terminal ? "_terminal" : "_no_terminal");
+}
+
+std::string solver_case_name(const testing::TestParamInfo<LspiSolver>& param) {
+  return to_string(param.param);
+}
+
 INSTANTIATE_TEST_SUITE_P(Solvers, TabularLspiEqualsPolicyIteration,
                          testing::Values(TabularCase{LspiSolver::lstdq, false, false},
                                          TabularCase{LspiSolver::lstdq, false, true},
                                          TabularCase{LspiSolver::lstdq, true, true},
                                          TabularCase{LspiSolver::brm, true, false},
-                                         TabularCase{LspiSolver::brm, true, true}));
+                                         TabularCase{LspiSolver::brm, true, true}),
+                         tabular_case_name);
 
 // Kernel features on a chain: 30 states on a line, 5 centres.
 SparseRowMatrix chain_features(int n, int m) {
@@ -191,7 +204,7 @@ TEST_P(FoldedSamples, GiveTheSameWeightsAsTheUnfoldedBatch) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, FoldedSamples,
-                         testing::Values(LspiSolver::brm, LspiSolver::lstdq));
+                         testing::Values(LspiSolver::brm, LspiSolver::lstdq), solver_case_name);
 
 class RankDeficient : public testing::TestWithParam<LspiSolver> {};
 
@@ -217,7 +230,7 @@ TEST_P(RankDeficient, IsReportedWithoutRidgeAndRegularisedWithIt) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, RankDeficient,
-                         testing::Values(LspiSolver::brm, LspiSolver::lstdq));
+                         testing::Values(LspiSolver::brm, LspiSolver::lstdq), solver_case_name);
 
 TEST(Lspi, BrmReusesTheSymbolicAnalysisWhenThePatternHolds) {
   const SparseRowMatrix features = chain_features(30, 2);

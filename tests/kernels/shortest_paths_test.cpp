@@ -5,6 +5,7 @@
 #include <cstring>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -78,7 +79,10 @@ TEST_P(ShortestPathsAgainstFloydWarshall, AllSourcesMatch) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ConnectedAndDisconnected, ShortestPathsAgainstFloydWarshall,
-                         testing::Values(true, false));
+                         testing::Values(true, false),
+                         [](const testing::TestParamInfo<bool>& param) {
+                           return std::string(param.param ? "connected" : "disconnected");
+                         });
 
 TEST(ShortestPaths, BitIdenticalAcrossThreadCounts) {
   const CsrGraph g = random_graph(2000, 6000, true, 11);

@@ -4,6 +4,7 @@
 
 #include "engine/job/kernel_width.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -81,7 +82,12 @@ TEST_P(KernelWidths, WidthsAroundTheCalibratedOnesAreAccepted) {
             "ok");
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryTask, KernelWidths, ::testing::Values("ci", "ci-arm", "ci-khepera"));
+INSTANTIATE_TEST_SUITE_P(EveryTask, KernelWidths, ::testing::Values("ci", "ci-arm", "ci-khepera"),
+                         [](const ::testing::TestParamInfo<const char*>& param) {
+                           std::string name = param.param;  // the job: "ci_arm"
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
 
 }  // namespace
 }  // namespace ggk::engine
