@@ -321,12 +321,14 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
       named_steps.push_back(roll_out(ctx, fit.lspi.policy, start, random, &trajectory));
       fit.arrays.push_back({"trajectory_" + name,
                             {static_cast<std::int64_t>(trajectory.size())},
-                            std::vector<double>(trajectory.begin(), trajectory.end())});
+                            std::vector<double>(trajectory.begin(), trajectory.end()),
+                            ElementType::kInt32});
     }
     set_metrics(successes / static_cast<double>(steps.size()),
                 successes > 0 ? step_sum / successes : kNaN,
                 static_cast<double>(fit.lspi.iterations()), named_steps);
-    fit.arrays.push_back({"steps_to_goal", {static_cast<std::int64_t>(steps.size())}, steps});
+    fit.arrays.push_back(
+        {"steps_to_goal", {static_cast<std::int64_t>(steps.size())}, steps, ElementType::kInt32});
     const Eigen::VectorXd values =
         kernels::state_values(features, env.num_actions, fit.lspi.weights);
     fit.arrays.push_back({"state_values",
@@ -391,7 +393,8 @@ RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscretePr
   record.node_states = env.state_vectors;
   record.arrays.push_back({"graph/visited",
                            {static_cast<std::int64_t>(visited.size())},
-                           std::vector<double>(visited.begin(), visited.end())});
+                           std::vector<double>(visited.begin(), visited.end()),
+                           ElementType::kUInt8});
 
   // LSPI learns from the moves that start outside a goal: a walk that goes on
   // through goals (walk_through_goals) also records moves out of goals, which

@@ -86,8 +86,8 @@ RunRecord run_arm(const sims::arm::ArmConfig& config, const JobSpec& job, std::i
   RunRecord record = run_discrete_protocol(env, protocol, job, run, points);
 
   const std::int64_t rows = arm.shoulder_steps(), cols = arm.elbow_steps();
-  NamedArray state_of{"grid/state_of", {rows, cols}, {}};
-  NamedArray goal{"grid/goal", {rows, cols}, {}};
+  NamedArray state_of{"grid/state_of", {rows, cols}, {}, ElementType::kInt32};
+  NamedArray goal{"grid/goal", {rows, cols}, {}, ElementType::kInt32};
   for (std::int32_t i = 0; i < rows; ++i) {
     for (std::int32_t j = 0; j < cols; ++j) {
       const std::int32_t s = arm.state_of(i, j);

@@ -279,7 +279,7 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
       {"evaluation/returns", {static_cast<std::int64_t>(returns.size())}, returns});
 
   // Fig. 5: the greedy action at every SOM unit's prototype.
-  NamedArray unit_policy{"unit_policy", {ctx.som->num_units()}, {}};
+  NamedArray unit_policy{"unit_policy", {ctx.som->num_units()}, {}, ElementType::kInt32};
   for (std::int32_t u = 0; u < ctx.som->num_units(); ++u) {
     const auto row = ctx.som->prototypes().row(u);
     const std::vector<double> prototype(row.data(), row.data() + row.size());
@@ -383,7 +383,8 @@ RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::
   for (NamedArray& array : arena_arrays(robot)) record.arrays.push_back(std::move(array));
   record.arrays.push_back({"samples/collisions",
                            {static_cast<std::int64_t>(walks.collisions.size())},
-                           walks.collisions});
+                           walks.collisions,
+                           ElementType::kUInt8});
 
   // The SOM on every reading of the walks (paper: 24 x 29 units for 20,000 samples).
   kernels::SomOptions som_options = config.som;
@@ -431,11 +432,13 @@ RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::
   record.node_states = prototypes;
   record.arrays.push_back({"graph/occupied",
                            {static_cast<std::int64_t>(occupied.size())},
-                           std::vector<double>(occupied.begin(), occupied.end())});
+                           std::vector<double>(occupied.begin(), occupied.end()),
+                           ElementType::kUInt8});
   record.arrays.push_back(
       {"state_units",
        {static_cast<std::int64_t>(ctx.state_units.units.size())},
-       std::vector<double>(ctx.state_units.units.begin(), ctx.state_units.units.end())});
+       std::vector<double>(ctx.state_units.units.begin(), ctx.state_units.units.end()),
+       ElementType::kInt32});
 
   // Centres: the occupied units in a random order.
   for (std::int32_t u = 0; u < som.num_units(); ++u) {

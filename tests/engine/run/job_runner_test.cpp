@@ -194,7 +194,7 @@ void expect_identical_results(const JobSpec& job, const fs::path& path_a, const 
       expect_same_vector<std::int32_t>(a, b, fit + "/centers");
       expect_same_vector<double>(a, b, fit + "/weights");
       expect_same_vector<std::int32_t>(a, b, fit + "/policy");
-      expect_same_vector<double>(a, b, fit + "/steps_to_goal");
+      expect_same_vector<std::int32_t>(a, b, fit + "/steps_to_goal");
       expect_same_vector<double>(a, b, fit + "/state_values");
       expect_same_vector<std::int32_t>(a, b, fit + "/history/policy_changes");
       expect_same_vector<double>(a, b, fit + "/history/relative_residual");
@@ -718,11 +718,12 @@ file = ")" + (dir_ / "schema.h5").string() +
     ASSERT_EQ(nodes.cols, 2);
     EXPECT_TRUE(std::equal(nodes.data.begin(), nodes.data.end(), states.data()));
 
-    const std::vector<double> visited = file.read_vector<double>(group + "/graph/visited");
+    const std::vector<std::uint8_t> visited =
+        file.read_vector<std::uint8_t>(group + "/graph/visited");
     ASSERT_EQ(visited.size(), static_cast<std::size_t>(maze.num_states()));
     std::vector<std::int32_t> visited_goals;
     for (std::int32_t g : goals) {
-      if (visited[static_cast<std::size_t>(g)] == 1.0) visited_goals.push_back(g);
+      if (visited[static_cast<std::size_t>(g)] == 1) visited_goals.push_back(g);
     }
     ASSERT_GE(visited_goals.size(), 1u) << "the samples must reach a goal";
 
@@ -749,7 +750,7 @@ file = ")" + (dir_ / "schema.h5").string() +
         for (std::size_t j = 0; j < centers.size(); ++j) {
           ASSERT_GE(centers[j], 0);
           ASSERT_LT(centers[j], maze.num_states());
-          EXPECT_EQ(visited[static_cast<std::size_t>(centers[j])], 1.0) << "centre " << j;
+          EXPECT_EQ(visited[static_cast<std::size_t>(centers[j])], 1) << "centre " << j;
           if (j >= visited_goals.size()) {
             EXPECT_FALSE(maze.is_goal(centers[j])) << "centre " << j;
           }
@@ -760,7 +761,7 @@ file = ")" + (dir_ / "schema.h5").string() +
         EXPECT_EQ(file.read_vector<std::int32_t>(fit + "/policy").size(),
                   static_cast<std::size_t>(maze.num_states()));
         for (const std::string& metric : metrics) EXPECT_TRUE(file.has_attribute(fit, metric));
-        EXPECT_EQ(file.read_vector<double>(fit + "/steps_to_goal").size(),
+        EXPECT_EQ(file.read_vector<std::int32_t>(fit + "/steps_to_goal").size(),
                   static_cast<std::size_t>(maze.num_states()) - goals.size());
         EXPECT_EQ(file.read_vector<double>(fit + "/state_values").size(),
                   static_cast<std::size_t>(maze.num_states()));

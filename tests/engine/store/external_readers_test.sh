@@ -46,6 +46,15 @@ sys.path.insert(0, os.environ["GGK_RESULTS"])
 import ggk_results
 path, readme = sys.argv[1], open(sys.argv[2]).read()
 
+def assert_documented(f, readme):
+    """Every dataset name is in the schema of results/README.md."""
+    names = set()
+    f.visititems(lambda n, o: names.add(re.sub(r"_\d+$", "_<i>", n.split("/")[-1]))
+                 if isinstance(o, h5py.Dataset) else None)
+    missing = sorted(n for n in names if not (n in readme if "<" in n else
+                                              re.search(r"\b" + re.escape(n) + r"\b", readme)))
+    assert not missing, f"datasets not documented in results/README.md: {missing}"
+
 # The README's one-liner, as printed there (with its file name replaced).
 line = next(l for l in readme.splitlines() if l.startswith("df = "))
 df = eval(line[len("df = "):].replace('"results/maze.h5"', repr(path)), {"h5py": h5py, "pd": pd})
@@ -67,15 +76,45 @@ with h5py.File(path, "r") as f:
     assert run["samples/actions"].dtype == np.int32
     assert run["samples/terminals"].dtype == np.uint8
     assert run["graph/indices"].dtype == np.int32
+    assert run["graph/visited"].dtype == np.uint8
     fit = run["fits/ggk/k_0008_sigma10_brm_lambda1e-06"]
     assert isinstance(fit.attrs["basis"], str) and fit.attrs["basis"] == "ggk"
     assert fit["policy"].dtype == np.int32 and fit["centers"].dtype == np.int32
+    assert fit["steps_to_goal"].dtype == np.int32
     assert ".staging" not in f, list(f)
-    # Every dataset name is in the schema of results/README.md.
+    assert_documented(f, readme)
+print("ok")
+PY
+}
+
+# The arm and Khepera files: integer datasets and every dataset documented.
+check_tasks() {  # arm file, khepera file
+  GGK_RESULTS=$GGK_SOURCE_DIR/results $python - "$1" "$2" "$GGK_SOURCE_DIR/results/README.md" <<'PY'
+import os, re, sys
+import h5py, numpy as np
+arm, khepera, readme = sys.argv[1], sys.argv[2], open(sys.argv[3]).read()
+
+def documented(f):
     names = set()
-    f.visititems(lambda n, o: names.add(n.split("/")[-1]) if isinstance(o, h5py.Dataset) else None)
-    missing = sorted(n for n in names if not re.search(r"\b" + re.escape(n) + r"\b", readme))
-    assert not missing, f"datasets not documented in results/README.md: {missing}"
+    f.visititems(lambda n, o: names.add(re.sub(r"_\d+$", "_<i>", n.split("/")[-1]))
+                 if isinstance(o, h5py.Dataset) else None)
+    return sorted(n for n in names if not (n in readme if "<" in n else
+                                           re.search(r"\b" + re.escape(n) + r"\b", readme)))
+
+with h5py.File(arm, "r") as f:
+    run = f["arm/run_000"]
+    assert run["grid/state_of"].dtype == np.int32 and run["grid/goal"].dtype == np.int32
+    assert run["graph/visited"].dtype == np.uint8
+    fit = next(iter(run["fits/ggk"].values()))
+    assert fit["trajectory_A"].dtype == np.int32 and fit["steps_to_goal"].dtype == np.int32
+    assert not documented(f), documented(f)
+with h5py.File(khepera, "r") as f:
+    run = f["khepera/run_000"]
+    assert run["graph/occupied"].dtype == np.uint8 and run["state_units"].dtype == np.int32
+    assert run["samples/collisions"].dtype == np.uint8
+    fit = next(iter(run["fits/ggk"].values()))
+    assert fit["unit_policy"].dtype == np.int32
+    assert not documented(f), documented(f)
 print("ok")
 PY
 }
@@ -95,6 +134,10 @@ pandas)
   write_job "$scratch/job.toml" 2
   "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.h5" 2>/dev/null || fail "run"
   check_pandas "$scratch/r.h5" || fail "pandas"
+  "$GGK" run "$GGK_SOURCE_DIR/jobs/arm-quick.toml" -q -o "$scratch/arm.h5" 2>/dev/null || fail "arm"
+  "$GGK" run "$GGK_SOURCE_DIR/jobs/khepera-quick.toml" -q -o "$scratch/khepera.h5" 2>/dev/null ||
+    fail "khepera"
+  check_tasks "$scratch/arm.h5" "$scratch/khepera.h5" || fail "arm and khepera files"
   ;;
 during_run)
   # ~0.3 s a run at -j 1: the sweep lasts long enough to be read several times.
