@@ -139,7 +139,8 @@ PY
   expect_error 2 "bad.toml:5:" "$GGK" validate "$scratch/bad.toml" --set runs=4
   [ ! -e "$scratch/x.h5" ] || fail "a refused override wrote results"
   # A bare word is a string; --resume compares the overridden job.
-  "$GGK" validate "$scratch/job.toml" --set name=other >/dev/null 2>&1 || fail "bare word"
+  "$GGK" validate "$scratch/job.toml" -o "$scratch/v.h5" --set name=other >/dev/null 2>&1 ||
+    fail "bare word"
   s=$(status_of "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.h5" --resume)
   [ "$s" = 2 ] && grep -q "series: 12 in the results file, 10 in the job file" "$scratch/err" ||
     fail "--resume without the overrides: $s $(cat "$scratch/err")"
