@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -72,13 +74,13 @@ void BM_BuildFeatures(benchmark::State& state) {
 }
 BENCHMARK(BM_BuildFeatures)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-void BM_FitLspi(benchmark::State& state) {
-  // Args: solver (0 BRM, 1 LSTD-Q), centres p (k = 4 p), truncation x 1e6.
-  const GridProblem problem = make_problem(static_cast<std::int32_t>(state.range(1)));
+// Named solver:brm / solver:lstdq; args: centres p (k = 4 p), truncation x 1e6.
+void BM_FitLspi(benchmark::State& state, kernels::LspiSolver solver) {
+  const GridProblem problem = make_problem(static_cast<std::int32_t>(state.range(0)));
   const kernels::SparseRowMatrix features =
-      make_features(problem, static_cast<double>(state.range(2)) * 1e-6);
+      make_features(problem, static_cast<double>(state.range(1)) * 1e-6);
   kernels::LspiOptions options;
-  options.solver = state.range(0) == 0 ? kernels::LspiSolver::brm : kernels::LspiSolver::lstdq;
+  options.solver = solver;
   options.ridge = 1e-6;
   std::int64_t iterations = 0;
   for (auto _ : state) {
@@ -93,24 +95,20 @@ void BM_FitLspi(benchmark::State& state) {
       static_cast<double>(features.nonZeros()) / static_cast<double>(features.rows());
   state.SetLabel(options.solver == kernels::LspiSolver::brm ? "brm" : "lstdq");
 }
-BENCHMARK(BM_FitLspi)
-    ->ArgNames({"solver", "p", "truncation_e6"})
-    ->Args({0, 100, 1000})  // the case: k = 400, truncated kernels
-    ->Args({1, 100, 1000})
-    ->Args({0, 200, 0})  // the arm's largest case: k = 800, untruncated
-    ->Args({1, 200, 0})
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+
+// Method: action blocks (ActionBlockSystem) or the Eigen sparse-product peer.
+enum class AssembleMethod { action_blocks, eigen_sparse_product };
 
 // One BRM system A = Psi^T W Psi for a fixed policy, two ways: ActionBlockSystem
 // (dense p x p blocks through BLAS, what fit_lspi uses) and the peer, Eigen's
 // sparse-sparse product of the rows psi_i = sqrt(w_i) (phi(s_i, a_i) - gamma
 // phi(s'_i, pi(s'_i))) built from the feature table.
-// Args: method (0 ActionBlockSystem, 1 Eigen sparse product), centres p, truncation x 1e6.
-void BM_AssembleBrmSystem(benchmark::State& state) {
-  const GridProblem problem = make_problem(static_cast<std::int32_t>(state.range(1)));
+// Named method:action_blocks / method:eigen_sparse_product; args: centres p,
+// truncation x 1e6.
+void BM_AssembleBrmSystem(benchmark::State& state, AssembleMethod method) {
+  const GridProblem problem = make_problem(static_cast<std::int32_t>(state.range(0)));
   const kernels::SparseRowMatrix features =
-      make_features(problem, static_cast<double>(state.range(2)) * 1e-6);
+      make_features(problem, static_cast<double>(state.range(1)) * 1e-6);
   const kernels::SampleBatch& samples = problem.samples;
   kernels::RandomStream rng(11, 0, 0);
   std::vector<std::int32_t> policy(static_cast<std::size_t>(kSide * kSide));
@@ -118,7 +116,7 @@ void BM_AssembleBrmSystem(benchmark::State& state) {
     action = static_cast<std::int32_t>(rng.uniform_index(kActions));
   }
   const double gamma = 0.9;
-  if (state.range(0) == 0) {
+  if (method == AssembleMethod::action_blocks) {
     const kernels::ActionBlockSystem system(features, kActions, samples, kernels::LspiSolver::brm,
                                             gamma);
     Eigen::MatrixXd a;
@@ -154,14 +152,34 @@ void BM_AssembleBrmSystem(benchmark::State& state) {
   }
   state.SetLabel("Eigen sparse product");
 }
-BENCHMARK(BM_AssembleBrmSystem)
-    ->ArgNames({"method", "p", "truncation_e6"})
-    ->Args({0, 100, 1000})
-    ->Args({1, 100, 1000})
-    ->Args({0, 200, 0})
-    ->Args({1, 200, 0})
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+// Registered with named values (solver:brm, not solver:0): the case
+// k = 400 with truncated kernels, and the arm's largest, k = 800 untruncated.
+const bool kRegistered = [] {
+  const std::pair<const char*, kernels::LspiSolver> solvers[] = {
+      {"brm", kernels::LspiSolver::brm}, {"lstdq", kernels::LspiSolver::lstdq}};
+  for (const auto& [name, solver] : solvers) {
+    benchmark::RegisterBenchmark((std::string("BM_FitLspi/solver:") + name).c_str(), BM_FitLspi,
+                                 solver)
+        ->ArgNames({"p", "truncation_e6"})
+        ->Args({100, 1000})
+        ->Args({200, 0})
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  }
+  const std::pair<const char*, AssembleMethod> methods[] = {
+      {"action_blocks", AssembleMethod::action_blocks},
+      {"eigen_sparse_product", AssembleMethod::eigen_sparse_product}};
+  for (const auto& [name, method] : methods) {
+    benchmark::RegisterBenchmark((std::string("BM_AssembleBrmSystem/method:") + name).c_str(),
+                                 BM_AssembleBrmSystem, method)
+        ->ArgNames({"p", "truncation_e6"})
+        ->Args({100, 1000})
+        ->Args({200, 0})
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  }
+  return true;
+}();
 
 }  // namespace
 }  // namespace ggk::bench
