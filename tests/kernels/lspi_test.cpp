@@ -340,7 +340,9 @@ TEST(Lspi, CopyLayoutGreedyPolicyEqualsTheSparseProduct) {
     for (Eigen::Index j = 0; j < kCenters; ++j) {
       const double base = rng.uniform(-1, 1);
       for (std::int32_t a = 0; a < kActions; ++a) {
-        w(a * kCenters + j) = trial % 2 == 0 ? base : base * (1.0 + 1e-15 * static_cast<double>(rng.uniform_index(3)));
+        w(a * kCenters + j) =
+            trial % 2 == 0 ? base
+                           : base * (1.0 + 1e-15 * static_cast<double>(rng.uniform_index(3)));
       }
     }
     EXPECT_EQ(copy_layout_greedy_policy(features, kActions, w),
