@@ -373,7 +373,9 @@ TEST(KheperaSensorNoise, NothingInRangeReadsExactlyZeroUnderTheDefaultModel) {
     for (double r : quiet.sense({50.0, 50.0, 0.0}, random)) {
       nonzero += r != 0.0;
       ++total;
-      if (r != 0.0) ASSERT_GE(r, 60.0);
+      if (r != 0.0) {
+        ASSERT_GE(r, 60.0);
+      }
     }
   }
   EXPECT_NEAR(static_cast<double>(nonzero) / static_cast<double>(total), 0.00135, 0.0003);
