@@ -4,8 +4,9 @@
 # every figure, then prints the claims table (ggk info of each results file).
 #
 #   bash scripts/reproduce.sh            # full scale: maze, arm (Figs. 1-3),
-#                                        # Khepera (Figs. 4-6) and the 45-degree
-#                                        # study -> results/*.h5, results/figures/
+#                                        # Khepera (Figs. 4-6) and the rotation-step
+#                                        # study (30, 45 degrees; 45-degree widths)
+#                                        # -> results/*.h5, results/figures/
 #   bash scripts/reproduce.sh --quick    # reduced: the paper's arm and Khepera jobs
 #                                        # with fewer runs and kernel counts (--set),
 #                                        # under 2 minutes on 2 cores
@@ -53,11 +54,13 @@ mkdir -p "$figures"
 run jobs/maze.toml results/maze.h5 "$@"
 run jobs/arm-paper.toml results/arm-paper.h5 "$@"
 run jobs/khepera-paper.toml results/khepera-paper.h5 "$@"
+run jobs/khepera-turn30.toml results/khepera-turn30.h5 "$@"
 run jobs/khepera-turn45.toml results/khepera-turn45.h5 "$@"
 run jobs/khepera-turn45-widths.toml results/khepera-turn45-widths.h5 "$@"
 $python results/plot_maze.py results/maze.h5 "$figures"
 $python results/plot_arm.py results/arm-paper.h5 "$figures" --kernels 128
 $python results/plot_khepera.py results/khepera-paper.h5 "$figures"
+$python results/plot_khepera.py results/khepera-turn30.h5 "$figures" --prefix khepera_turn30
 $python results/plot_khepera.py results/khepera-turn45.h5 "$figures" --prefix khepera_turn45
 for extra in results/plot_arm_workspace.py results/plot_khepera_arena.py; do
   # Figures of the simulators' geometry, where this checkout has them.
@@ -71,7 +74,7 @@ for extra in results/plot_arm_workspace.py results/plot_khepera_arena.py; do
 done
 echo "== claims" >&2
 for f in results/maze.h5 results/arm-paper.h5 results/khepera-paper.h5 \
-  results/khepera-turn45.h5 results/khepera-turn45-widths.h5; do
+  results/khepera-turn30.h5 results/khepera-turn45.h5 results/khepera-turn45-widths.h5; do
   "$ggk" info "$f"
   echo
 done
