@@ -78,4 +78,5 @@ for f in results/maze.h5 results/arm-paper.h5 results/khepera-paper.h5 \
   "$ggk" info "$f"
   echo
 done
+$python results/claims.py
 echo "reproduce.sh: every figure is in $figures/ (what each shows: README.md)" >&2
