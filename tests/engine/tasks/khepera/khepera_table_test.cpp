@@ -12,6 +12,7 @@
 #include <map>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -648,22 +649,27 @@ TEST_F(ShippedKheperaJob, PaperQuickAndCiJobs) {
     EXPECT_EQ(c.simulator.rewards, p.simulator.rewards);
   }
 
-  // The sensitivity job differs from the paper job in the rotation step only.
-  const JobSpec turn45 = load("khepera-turn45");
-  EXPECT_EQ(turn45.runs, paper.runs);
-  EXPECT_EQ(turn45.seed, paper.seed);
-  EXPECT_EQ(turn45.sweep.kernels, paper.sweep.kernels);
-  EXPECT_EQ(turn45.sweep.solver, paper.sweep.solver);
-  const KheperaTaskConfig& t = khepera_config(turn45);
-  EXPECT_EQ(t.simulator.motion.turn_deg, 45.0);
-  khepera::MotionModel motion = t.simulator.motion;
-  motion.turn_deg = p.simulator.motion.turn_deg;
-  EXPECT_EQ(motion, p.simulator.motion);
-  EXPECT_TRUE(t.simulator.arena.obstacles == p.simulator.arena.obstacles);
-  EXPECT_EQ(t.simulator.arena.start, p.simulator.arena.start);
-  EXPECT_EQ(t.simulator.sensors, p.simulator.sensors);
-  EXPECT_EQ(t.simulator.series, p.simulator.series);
-  EXPECT_EQ(t.simulator.test_episodes, p.simulator.test_episodes);
+  // The rotation-step study's jobs differ from the paper job in the rotation step only.
+  for (const auto& [name, degrees] :
+       {std::pair<const char*, double>{"khepera-turn30", 30.0}, {"khepera-turn45", 45.0}}) {
+    SCOPED_TRACE(name);
+    const JobSpec study = load(name);
+    EXPECT_EQ(study.runs, paper.runs);
+    EXPECT_EQ(study.seed, paper.seed);
+    EXPECT_EQ(study.sweep.kernels, paper.sweep.kernels);
+    EXPECT_EQ(study.sweep.solver, paper.sweep.solver);
+    const KheperaTaskConfig& s = khepera_config(study);
+    EXPECT_EQ(s.simulator.motion.turn_deg, degrees);
+    khepera::MotionModel motion = s.simulator.motion;
+    motion.turn_deg = p.simulator.motion.turn_deg;
+    EXPECT_EQ(motion, p.simulator.motion);
+    EXPECT_TRUE(s.simulator.arena.obstacles == p.simulator.arena.obstacles);
+    EXPECT_EQ(s.simulator.arena.start, p.simulator.arena.start);
+    EXPECT_EQ(s.simulator.sensors, p.simulator.sensors);
+    EXPECT_EQ(s.simulator.series, p.simulator.series);
+    EXPECT_EQ(s.simulator.test_episodes, p.simulator.test_episodes);
+  }
+  const KheperaTaskConfig& t = khepera_config(load("khepera-turn45"));
 
   // Its width sweep keeps the 45-degree robot.
   const JobSpec widths = load("khepera-turn45-widths");
