@@ -186,7 +186,10 @@ std::vector<std::string_view> top_level_keys(std::span<const TaskTable> tasks) {
 // Copies every key of `from` into `into`: a table into a table merges, anything
 // else replaces. Keys and values keep their source (the --set option).
 void merge_table(toml::table& into, const toml::table& from) {
-  for (const auto& [key, node] : from) {
+  for (const auto& entry : from) {
+    // Not a structured binding: clang 14 cannot capture one in the lambda below.
+    const toml::key& key = entry.first;
+    const toml::node& node = entry.second;
     toml::node* existing = into.get(key.str());
     if (node.is_table() && existing != nullptr && existing->is_table()) {
       merge_table(*existing->as_table(), *node.as_table());
