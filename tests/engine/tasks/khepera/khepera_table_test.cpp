@@ -669,7 +669,8 @@ TEST_F(ShippedKheperaJob, PaperQuickAndCiJobs) {
     EXPECT_EQ(s.simulator.series, p.simulator.series);
     EXPECT_EQ(s.simulator.test_episodes, p.simulator.test_episodes);
   }
-  const KheperaTaskConfig& t = khepera_config(load("khepera-turn45"));
+  const JobSpec turn45 = load("khepera-turn45");  // alive as long as t refers into it
+  const KheperaTaskConfig& t = khepera_config(turn45);
 
   // Its width sweep keeps the 45-degree robot.
   const JobSpec widths = load("khepera-turn45-widths");
