@@ -1,5 +1,7 @@
 #include "kernels/shortest_paths.hpp"
 
+#include <algorithm>
+#include <bit>
 #include <stdexcept>
 #include <string>
 
@@ -9,69 +11,49 @@
 namespace ggk::kernels {
 
 namespace {
-constexpr std::size_t kArity = 4;  // 4-ary heap: shallower than binary, children share a cache line
+// Non-negative doubles (+0.0 up to +infinity) order like their IEEE bit patterns
+// read as unsigned integers. Distances are never -0.0: the source starts at +0.0
+// and +0.0 + w is +0.0 for w = -0.0.
+std::uint64_t key_of(double distance) {
+  return std::bit_cast<std::uint64_t>(distance);
+}
+}  // namespace
+
+void DijkstraWorkspace::push(std::uint64_t key, std::int32_t node) {
+  // Keys pushed are never below last_: d(u) + w >= d(u) = last_ for w >= 0 in
+  // round-to-nearest, as rounding is monotone.
+  const std::uint64_t diff = key ^ last_;
+  const int bucket = diff == 0 ? 0 : 64 - std::countl_zero(diff);
+  buckets_[static_cast<std::size_t>(bucket)].push_back({key, node});
+  if (bucket > 0) occupied_ |= std::uint64_t{1} << (bucket - 1);
 }
 
-void DijkstraWorkspace::sift_up(std::size_t slot, std::span<const double> distances) {
-  const std::int32_t node = heap_[slot];
-  const double key = distances[node];
-  while (slot > 0) {
-    const std::size_t parent = (slot - 1) / kArity;
-    const std::int32_t parent_node = heap_[parent];
-    if (distances[parent_node] <= key) break;
-    heap_[slot] = parent_node;
-    position_[parent_node] = static_cast<std::int32_t>(slot);
-    slot = parent;
-  }
-  heap_[slot] = node;
-  position_[node] = static_cast<std::int32_t>(slot);
-}
-
-void DijkstraWorkspace::sift_down(std::size_t slot, std::span<const double> distances) {
-  const std::size_t size = heap_.size();
-  const std::int32_t node = heap_[slot];
-  const double key = distances[node];
-  for (;;) {
-    const std::size_t first = slot * kArity + 1;
-    if (first >= size) break;
-    const std::size_t last = std::min(first + kArity, size);
-    std::size_t best = first;
-    double best_key = distances[heap_[first]];
-    for (std::size_t c = first + 1; c < last; ++c) {
-      const double k = distances[heap_[c]];
-      if (k < best_key) {
-        best = c;
-        best_key = k;
-      }
+bool DijkstraWorkspace::refill(std::span<const double> distances) {
+  while (occupied_ != 0) {
+    const int bucket = std::countr_zero(occupied_) + 1;
+    occupied_ &= occupied_ - 1;
+    std::vector<Entry>& source = buckets_[static_cast<std::size_t>(bucket)];
+    // Drop stale entries (the node has since been pushed with a smaller key) and
+    // find the minimum of the live ones.
+    std::size_t live = 0;
+    std::uint64_t minimum = ~std::uint64_t{0};
+    for (const Entry& e : source) {
+      if (e.key != key_of(distances[static_cast<std::size_t>(e.node)])) continue;
+      minimum = std::min(minimum, e.key);
+      source[live++] = e;
     }
-    if (best_key >= key) break;
-    heap_[slot] = heap_[best];
-    position_[heap_[slot]] = static_cast<std::int32_t>(slot);
-    slot = best;
+    if (live == 0) {
+      source.clear();
+      continue;
+    }
+    // Every live key shares with `minimum` the bits above bucket-1, so each goes
+    // to a bucket below this one; keys in higher buckets keep their bucket.
+    last_ = minimum;
+    for (std::size_t i = 0; i < live; ++i) push(source[i].key, source[i].node);
+    source.clear();
+    return true;
   }
-  heap_[slot] = node;
-  position_[node] = static_cast<std::int32_t>(slot);
-}
-
-void DijkstraWorkspace::push_or_decrease(std::int32_t node, std::span<const double> distances) {
-  std::int32_t slot = position_[node];
-  if (slot < 0) {
-    slot = static_cast<std::int32_t>(heap_.size());
-    heap_.push_back(node);  // capacity reserved in run(): never reallocates
-  }
-  sift_up(static_cast<std::size_t>(slot), distances);
-}
-
-std::int32_t DijkstraWorkspace::pop_min(std::span<const double> distances) {
-  const std::int32_t top = heap_.front();
-  position_[top] = -1;
-  const std::int32_t last = heap_.back();
-  heap_.pop_back();
-  if (!heap_.empty()) {
-    heap_.front() = last;
-    sift_down(0, distances);
-  }
-  return top;
+  return false;
 }
 
 void DijkstraWorkspace::run(const CsrGraph& graph, std::int32_t source,
@@ -86,23 +68,34 @@ void DijkstraWorkspace::run(const CsrGraph& graph, std::int32_t source,
     throw std::invalid_argument("shortest_path_distances: source " + std::to_string(source) +
                                 " outside [0, " + std::to_string(n) + ")");
   }
-  if (position_.size() < n) position_.assign(n, -1);
-  heap_.clear();
-  heap_.reserve(n);
+  for (std::vector<Entry>& bucket : buckets_) bucket.clear();
+  occupied_ = 0;
+  last_ = 0;
   std::fill(distances.begin(), distances.end(), kUnreachable);
 
-  distances[source] = 0.0;
-  push_or_decrease(source, distances);
-  while (!heap_.empty()) {
-    const std::int32_t u = pop_min(distances);
-    const double du = distances[u];
-    const std::int64_t end = graph.indptr[u + 1];
-    for (std::int64_t arc = graph.indptr[u]; arc < end; ++arc) {
-      const std::int32_t v = graph.indices[arc];
-      const double candidate = du + graph.weights[arc];
-      if (candidate < distances[v]) {
-        distances[v] = candidate;
-        push_or_decrease(v, distances);
+  const std::int64_t* indptr = graph.indptr.data();
+  const std::int32_t* indices = graph.indices.data();
+  const double* weights = graph.weights.data();
+  double* dist = distances.data();
+  std::vector<Entry>& current = buckets_[0];
+
+  dist[source] = 0.0;
+  current.push_back({key_of(0.0), source});
+  for (;;) {
+    if (current.empty() && !refill(distances)) break;
+    const Entry top = current.back();
+    current.pop_back();
+    const auto u = static_cast<std::size_t>(top.node);
+    // A stale entry: the node was pushed again with a smaller key and is settled.
+    if (top.key != key_of(dist[u])) continue;
+    const double du = dist[u];
+    const std::int64_t end = indptr[u + 1];
+    for (std::int64_t arc = indptr[u]; arc < end; ++arc) {
+      const std::int32_t v = indices[arc];
+      const double candidate = du + weights[arc];
+      if (candidate < dist[v]) {
+        dist[v] = candidate;
+        push(key_of(candidate), v);
       }
     }
   }

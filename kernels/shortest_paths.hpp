@@ -1,11 +1,15 @@
 #pragma once
 // Single- and multi-source Dijkstra on a CsrGraph.
 //
-// Distances are +infinity for unreachable nodes. The multi-source form runs one
-// Dijkstra per source as oneTBB tasks (nested parallelism composes with the
-// caller's arena); each row depends only on its source, so the result is
-// bit-identical for any thread count.
+// Distances are +infinity for unreachable nodes. A node's distance is the
+// smallest, over all paths from the source, of the path's weights added one
+// after the other from the source, in double: the same bits as any textbook
+// Dijkstra (binary heap, Boost.Graph) that relaxes d(v) = d(u) + w(u, v). The
+// multi-source form runs one Dijkstra per source as oneTBB tasks (nested
+// parallelism composes with the caller's arena); each row depends only on its
+// source, so the result is bit-identical for any thread count.
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -18,21 +22,32 @@ namespace ggk::kernels {
 
 inline constexpr double kUnreachable = std::numeric_limits<double>::infinity();
 
-// Reusable buffers for one Dijkstra at a time: an indexed 4-ary min-heap with
-// decrease-key. Nothing is allocated per pop; buffers grow only when the graph does.
+// Reusable buffers for one Dijkstra at a time: a radix heap (Ahuja, Mehlhorn,
+// Orlin & Tarjan 1990) on the bit patterns of the non-negative double distances,
+// which order like the doubles themselves. Dijkstra pops keys in non-decreasing
+// order, the one property a radix heap needs; it is exact (no rounding of keys),
+// needs no decrease-key (an improved node is pushed again, the stale entry is
+// dropped when met) and moves each entry only a few times. Buffers grow only when
+// the graph does; nothing is allocated per pop once warm.
 // Thread-safety: none; one workspace per worker.
 class DijkstraWorkspace {
  public:
   void run(const CsrGraph& graph, std::int32_t source, std::span<double> distances);
 
  private:
-  void push_or_decrease(std::int32_t node, std::span<const double> distances);
-  std::int32_t pop_min(std::span<const double> distances);
-  void sift_up(std::size_t slot, std::span<const double> distances);
-  void sift_down(std::size_t slot, std::span<const double> distances);
+  struct Entry {
+    std::uint64_t key;  // bit pattern of the distance the node had when pushed
+    std::int32_t node;
+  };
+  static constexpr int kBuckets = 65;  // bucket 0: key == last popped; b > 0: top differing bit b-1
 
-  std::vector<std::int32_t> heap_;      // node ids ordered as a 4-ary heap on distance
-  std::vector<std::int32_t> position_;  // slot of each node in heap_, -1 if absent
+  void push(std::uint64_t key, std::int32_t node);
+  // Refills bucket 0 from the lowest non-empty bucket; false when the heap is empty.
+  bool refill(std::span<const double> distances);
+
+  std::array<std::vector<Entry>, kBuckets> buckets_;
+  std::uint64_t occupied_ = 0;  // bit b-1 set when bucket b > 0 may be non-empty
+  std::uint64_t last_ = 0;      // key of the last refill's minimum
 };
 
 // Shortest-path distances from one source; distances.size() must equal num_nodes.
