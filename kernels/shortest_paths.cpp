@@ -19,37 +19,42 @@ std::uint64_t key_of(double distance) {
 }
 }  // namespace
 
-void DijkstraWorkspace::push(std::uint64_t key, std::int32_t node) {
-  // Keys pushed are never below last_: d(u) + w >= d(u) = last_ for w >= 0 in
-  // round-to-nearest, as rounding is monotone.
+int DijkstraWorkspace::bucket_of(std::uint64_t key) const {
   const std::uint64_t diff = key ^ last_;
-  const int bucket = diff == 0 ? 0 : 64 - std::countl_zero(diff);
-  buckets_[static_cast<std::size_t>(bucket)].push_back({key, node});
+  return diff == 0 ? 0 : 64 - std::countl_zero(diff);
+}
+
+void DijkstraWorkspace::push(int bucket, std::int32_t node) {
+  buckets_[static_cast<std::size_t>(bucket)].push_back(node);
   if (bucket > 0) occupied_ |= std::uint64_t{1} << (bucket - 1);
 }
 
-bool DijkstraWorkspace::refill(std::span<const double> distances) {
+bool DijkstraWorkspace::refill(const double* distances) {
   while (occupied_ != 0) {
     const int bucket = std::countr_zero(occupied_) + 1;
     occupied_ &= occupied_ - 1;
-    std::vector<Entry>& source = buckets_[static_cast<std::size_t>(bucket)];
-    // Drop stale entries (the node has since been pushed with a smaller key) and
-    // find the minimum of the live ones.
+    std::vector<std::int32_t>& source = buckets_[static_cast<std::size_t>(bucket)];
+    // An entry is live when its node's current key still falls in this bucket
+    // (keys in bucket b > 0 are above last_). Otherwise its distance dropped since
+    // the push: the node is settled or waits in a lower bucket, and the entry goes.
     std::size_t live = 0;
     std::uint64_t minimum = ~std::uint64_t{0};
-    for (const Entry& e : source) {
-      if (e.key != key_of(distances[static_cast<std::size_t>(e.node)])) continue;
-      minimum = std::min(minimum, e.key);
-      source[live++] = e;
+    for (const std::int32_t node : source) {
+      const std::uint64_t key = key_of(distances[node]);
+      if (key <= last_ || bucket_of(key) != bucket) continue;
+      minimum = std::min(minimum, key);
+      source[live++] = node;
     }
     if (live == 0) {
       source.clear();
       continue;
     }
-    // Every live key shares with `minimum` the bits above bucket-1, so each goes
+    // Every live key shares with `minimum` the bits above bucket - 1, so each goes
     // to a bucket below this one; keys in higher buckets keep their bucket.
     last_ = minimum;
-    for (std::size_t i = 0; i < live; ++i) push(source[i].key, source[i].node);
+    for (std::size_t i = 0; i < live; ++i) {
+      push(bucket_of(key_of(distances[source[i]])), source[i]);
+    }
     source.clear();
     return true;
   }
@@ -68,7 +73,7 @@ void DijkstraWorkspace::run(const CsrGraph& graph, std::int32_t source,
     throw std::invalid_argument("shortest_path_distances: source " + std::to_string(source) +
                                 " outside [0, " + std::to_string(n) + ")");
   }
-  for (std::vector<Entry>& bucket : buckets_) bucket.clear();
+  for (std::vector<std::int32_t>& bucket : buckets_) bucket.clear();
   occupied_ = 0;
   last_ = 0;
   std::fill(distances.begin(), distances.end(), kUnreachable);
@@ -77,25 +82,28 @@ void DijkstraWorkspace::run(const CsrGraph& graph, std::int32_t source,
   const std::int32_t* indices = graph.indices.data();
   const double* weights = graph.weights.data();
   double* dist = distances.data();
-  std::vector<Entry>& current = buckets_[0];
+  std::vector<std::int32_t>& current = buckets_[0];
 
+  // Every node in bucket 0 is live and there once: its key equals last_, and no
+  // relaxation can bring a key below last_ (d(u) + w >= d(u) for w >= 0 in
+  // round-to-nearest, as rounding is monotone).
   dist[source] = 0.0;
-  current.push_back({key_of(0.0), source});
-  for (;;) {
-    if (current.empty() && !refill(distances)) break;
-    const Entry top = current.back();
+  current.push_back(source);
+  while (!current.empty() || refill(dist)) {
+    const std::int32_t u = current.back();
     current.pop_back();
-    const auto u = static_cast<std::size_t>(top.node);
-    // A stale entry: the node was pushed again with a smaller key and is settled.
-    if (top.key != key_of(dist[u])) continue;
     const double du = dist[u];
     const std::int64_t end = indptr[u + 1];
     for (std::int64_t arc = indptr[u]; arc < end; ++arc) {
       const std::int32_t v = indices[arc];
       const double candidate = du + weights[arc];
-      if (candidate < dist[v]) {
+      const double old = dist[v];
+      if (candidate < old) {
         dist[v] = candidate;
-        push(key_of(candidate), v);
+        // Unreached nodes (key +infinity) have no entry; a reached node keeps its
+        // entry when the new key falls in the same bucket.
+        const int bucket = bucket_of(key_of(candidate));
+        if (old == kUnreachable || bucket != bucket_of(key_of(old))) push(bucket, v);
       }
     }
   }

@@ -25,27 +25,27 @@ inline constexpr double kUnreachable = std::numeric_limits<double>::infinity();
 // Reusable buffers for one Dijkstra at a time: a radix heap (Ahuja, Mehlhorn,
 // Orlin & Tarjan 1990) on the bit patterns of the non-negative double distances,
 // which order like the doubles themselves. Dijkstra pops keys in non-decreasing
-// order, the one property a radix heap needs; it is exact (no rounding of keys),
-// needs no decrease-key (an improved node is pushed again, the stale entry is
-// dropped when met) and moves each entry only a few times. Buffers grow only when
-// the graph does; nothing is allocated per pop once warm.
+// order, the one property a radix heap needs; it is exact (no rounding of keys)
+// and moves each entry only a few times. Entries are bare node ids: a node's key
+// is its current distance, a node whose distance drops within its bucket is not
+// pushed again, and an entry left behind in a higher bucket is dropped when met.
+// Buffers grow only when the graph does; nothing is allocated per pop once warm.
 // Thread-safety: none; one workspace per worker.
 class DijkstraWorkspace {
  public:
   void run(const CsrGraph& graph, std::int32_t source, std::span<double> distances);
 
  private:
-  struct Entry {
-    std::uint64_t key;  // bit pattern of the distance the node had when pushed
-    std::int32_t node;
-  };
-  static constexpr int kBuckets = 65;  // bucket 0: key == last popped; b > 0: top differing bit b-1
+  // Bucket 0 holds nodes whose key equals last_; bucket b > 0 those whose key
+  // differs from last_ first at bit b - 1 (keys above last_ only).
+  static constexpr int kBuckets = 65;
 
-  void push(std::uint64_t key, std::int32_t node);
+  int bucket_of(std::uint64_t key) const;
+  void push(int bucket, std::int32_t node);
   // Refills bucket 0 from the lowest non-empty bucket; false when the heap is empty.
-  bool refill(std::span<const double> distances);
+  bool refill(const double* distances);
 
-  std::array<std::vector<Entry>, kBuckets> buckets_;
+  std::array<std::vector<std::int32_t>, kBuckets> buckets_;
   std::uint64_t occupied_ = 0;  // bit b-1 set when bucket b > 0 may be non-empty
   std::uint64_t last_ = 0;      // key of the last refill's minimum
 };
