@@ -14,6 +14,7 @@ enum class ArmConfigField {
   base,             // base position
   shoulder_limits,  // JointLimits::shoulder_*
   elbow_limits,     // JointLimits::elbow_*
+  grid_step,        // ArmConfig::grid_step_tenths
   obstacles,        // one obstacle (index()) or, with index() == -1, all of them
   object,
   start_A,

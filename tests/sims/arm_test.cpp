@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -192,7 +193,7 @@ TEST(Arm, NumbersFreeCellsRowMajor) {
   EXPECT_THROW(arm.cell_of(20), std::out_of_range);
   EXPECT_THROW(arm.angles_of(-1), std::out_of_range);
 
-  // State vectors are the angles in grid units (degrees / 5).
+  // State vectors are the angles in units of 5 degrees (grid units at the default step).
   EXPECT_EQ(arm.state_vector(11), (std::array<double, 2>{3.0, -1.0}));
   const kernels::RowMatrixXd vectors = arm.state_vectors();
   ASSERT_EQ(vectors.rows(), 20);
@@ -279,6 +280,108 @@ TEST(Arm, GridMatchesDirectCollisionTests) {
   EXPECT_EQ(arm.num_states(), expected_state);
 }
 
+// small_config() on a 2.5-degree grid: 9 x 9 cells (shoulder 0, 2.5, ..., 20;
+// elbow -10, -7.5, ..., 10). The disc still blocks the row at shoulder 10 only
+// (at 7.5 and 12.5 link 1 passes it at 0.5 sin 2.5 deg = 0.022 > 0.01). The end
+// effector points at 20 degrees from (20, 0), reaching 2, and from (17.5, 5),
+// reaching 2 cos 2.5 deg (0.0019 short, inside the object's 0.005): two goals;
+// (15, 10) still falls 0.0076 short.
+ArmConfig fine_config() {
+  ArmConfig config = small_config();
+  config.grid_step_tenths = 25;
+  return config;
+}
+
+TEST(ArmFineGrid, GridOfTwoAndAHalfDegrees) {
+  const Arm arm(fine_config());
+  EXPECT_EQ(arm.grid_step_tenths(), 25);
+  EXPECT_EQ(arm.grid_step_degrees(), 2.5);
+  EXPECT_EQ(arm.shoulder_steps(), 9);
+  EXPECT_EQ(arm.elbow_steps(), 9);
+  ASSERT_EQ(arm.num_states(), 72);  // 81 cells less the row at shoulder 10
+  for (std::int32_t j = 0; j < 9; ++j) {
+    EXPECT_TRUE(arm.collides(4, j)) << j;
+    EXPECT_FALSE(arm.collides(3, j)) << j;
+    EXPECT_FALSE(arm.collides(5, j)) << j;
+  }
+  EXPECT_EQ(arm.state_of(3, 8), 35);
+  EXPECT_EQ(arm.state_of(5, 0), 36);
+  // Goals (17.5, 5) = cell (7, 6) and (20, 0) = cell (8, 4).
+  EXPECT_EQ(arm.goal_states(), (std::vector<std::int32_t>{36 + 2 * 9 + 6, 36 + 3 * 9 + 4}));
+  EXPECT_EQ(arm.angles_of(60), (JointAngles{17.5, 5.0}));
+  EXPECT_EQ(arm.angles_of(67), (JointAngles{20.0, 0.0}));
+
+  // A hand-checked pose: cell (1, 3) is shoulder 2.5, elbow -2.5.
+  const std::int32_t s = arm.state_of(1, 3);
+  EXPECT_EQ(arm.angles_of(s), (JointAngles{2.5, -2.5}));
+  // State vectors stay in units of 5 degrees: neighbours are 0.5 apart.
+  EXPECT_EQ(arm.state_vector(s), (std::array<double, 2>{0.5, -0.5}));
+  const ArmPose pose = arm.pose_of(s);
+  expect_point(pose.elbow, std::cos(deg(2.5)), std::sin(deg(2.5)));
+  expect_point(pose.end_effector, std::cos(deg(2.5)) + 1.0, std::sin(deg(2.5)));  // forearm at 0
+}
+
+TEST(ArmFineGrid, ActionsTurnOneJointByOneStep) {
+  const Arm arm(fine_config());
+  const std::int32_t s = arm.state_of(1, 3);  // (2.5, -2.5)
+  EXPECT_EQ(arm.angles_of(arm.move(s, kShoulderPlus)), (JointAngles{5.0, -2.5}));
+  EXPECT_EQ(arm.angles_of(arm.move(s, kShoulderMinus)), (JointAngles{0.0, -2.5}));
+  EXPECT_EQ(arm.angles_of(arm.move(s, kElbowPlus)), (JointAngles{2.5, 0.0}));
+  EXPECT_EQ(arm.angles_of(arm.move(s, kElbowMinus)), (JointAngles{2.5, -5.0}));
+  // Shoulder 7.5 -> 10 collides; the limits stop moves as on the 5-degree grid.
+  const std::int32_t below = arm.state_of(3, 0);
+  EXPECT_EQ(arm.move(below, kShoulderPlus), below);
+  EXPECT_EQ(arm.move(arm.state_of(8, 8), kElbowPlus), arm.state_of(8, 8));
+  const StepResult r = arm.step(arm.state_of(7, 5), kElbowPlus);  // (17.5, 2.5) -> (17.5, 5)
+  EXPECT_EQ(r.next_state, 60);
+  EXPECT_EQ(r.reward, 1.0);
+  EXPECT_TRUE(r.terminal);
+}
+
+TEST(ArmFineGrid, GridMatchesDirectCollisionTestsAtEveryStep) {
+  ArmConfig config;  // the default limits
+  config.geometry.obstacles = {Rectangle{{-3.0, -2.0}, {3.0, -0.1}}, Disc{{0.0, 1.6}, 0.3},
+                               Rectangle{{-1.6, -0.1}, {-0.9, 0.5}}};
+  config.geometry.object = {{1.25, 0.2}, 0.2};
+  config.start_A = {110, 0};
+  // Step (tenths), grid rows and columns: 181 x 356 at 1 degree.
+  for (const auto& [tenths, rows, cols] :
+       {std::tuple{50, 37, 72}, std::tuple{25, 73, 143}, std::tuple{10, 181, 356}}) {
+    config.grid_step_tenths = tenths;
+    const Arm arm(config);
+    const double step = tenths / 10.0;
+    ASSERT_EQ(arm.shoulder_steps(), rows) << step;
+    ASSERT_EQ(arm.elbow_steps(), cols) << step;
+    std::int32_t expected_state = 0;
+    for (std::int32_t i = 0; i < rows; ++i) {
+      for (std::int32_t j = 0; j < cols; ++j) {
+        const ArmPose pose = forward_kinematics(config.geometry, step * i, -180.0 + step * j);
+        const bool collides = arm_collides(config.geometry, pose);
+        ASSERT_EQ(arm.collides(i, j), collides) << step << ": " << i << ", " << j;
+        if (collides) continue;
+        const std::int32_t s = arm.state_of(i, j);
+        ASSERT_EQ(s, expected_state++);
+        ASSERT_EQ(arm.is_goal(s), touches_object(config.geometry, pose));
+        ASSERT_EQ(arm.angles_of(s), (JointAngles{step * i, -180.0 + step * j}));
+      }
+    }
+    EXPECT_EQ(arm.num_states(), expected_state);
+    EXPECT_EQ(arm.angles_of(arm.start_state_A()), (JointAngles{110.0, 0.0}));
+  }
+}
+
+TEST(ArmFineGrid, DefaultStepIsThePapersFiveDegrees) {
+  EXPECT_EQ(ArmConfig{}.grid_step_tenths, 50);
+  ArmConfig explicit_step = small_config();
+  explicit_step.grid_step_tenths = 50;
+  const Arm by_default(small_config());
+  const Arm by_key(explicit_step);
+  ASSERT_EQ(by_key.num_states(), by_default.num_states());
+  for (std::int32_t s = 0; s < by_default.num_states(); ++s) {
+    EXPECT_EQ(by_key.state_vector(s), by_default.state_vector(s));
+  }
+}
+
 // The field an invalid configuration is blamed on.
 ArmConfigField error_field(const ArmConfig& config) {
   try {
@@ -310,6 +413,18 @@ TEST(Arm, RejectsBadConfigurations) {
   EXPECT_EQ(error_field(config), ArmConfigField::start_A);
   config.start_A = {3, 0};  // off the grid
   EXPECT_EQ(error_field(config), ArmConfigField::start_A);
+  config.start_A = {2.5, 0};  // off the 5-degree grid, on the 2.5-degree one
+  EXPECT_EQ(error_field(config), ArmConfigField::start_A);
+  config.grid_step_tenths = 25;
+  EXPECT_NO_THROW(Arm{config});
+  config = small_config();
+  config.grid_step_tenths = 0;
+  EXPECT_EQ(error_field(config), ArmConfigField::grid_step);
+  config.grid_step_tenths = 30;  // 3 degrees: 20 is no multiple of it
+  EXPECT_EQ(error_field(config), ArmConfigField::shoulder_limits);
+  config.grid_step_tenths = 7;  // 0.7 degrees: neither is -10
+  config.limits.shoulder_max_deg = 21;
+  EXPECT_EQ(error_field(config), ArmConfigField::elbow_limits);
   config = small_config();
   config.geometry.object.center.x += 0.1;
   EXPECT_EQ(error_field(config), ArmConfigField::object);

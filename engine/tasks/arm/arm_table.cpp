@@ -18,9 +18,10 @@ namespace {
 
 namespace arm = sims::arm;
 
-constexpr std::array<std::string_view, 10> kArmKeys = {
-    "links",  "base",   "shoulder_limits",  "elbow_limits",   "start_A",
+constexpr std::array<std::string_view, 11> kArmKeys = {
+    "links",  "base",   "shoulder_limits",  "elbow_limits",   "grid_step_degrees", "start_A",
     "object", "series", "steps_per_series", "test_max_steps", "obstacles"};
+constexpr std::string_view kGridStepKey = "grid_step_degrees";
 constexpr std::array<std::string_view, 2> kObjectKeys = {"center", "radius"};
 constexpr std::array<std::string_view, 5> kObstacleKeys = {"kind", "min", "max", "center",
                                                            "radius"};
@@ -77,32 +78,62 @@ arm::Point2 point(const TomlTableReader& table, std::string_view key,
   return {xy[0], xy[1]};
 }
 
-// [shoulder, elbow] or [min, max] of integer degrees, each a multiple of 5 in
-// [-360, 360].
+// The joint grid step in tenths of a degree: grid_step_degrees, a whole number
+// of tenths in [0.1, 360), default 5 (the paper's grid).
+std::int32_t grid_step(const TomlTableReader& table) {
+  if (!table.has(kGridStepKey)) return arm::kPaperGridStepTenths;
+  const double degrees = table.number(kGridStepKey, NumberRange{0.1, true, 360.0, false});
+  const double scaled = degrees * arm::kTenthsPerDegree;
+  const double tenths = std::round(scaled);
+  if (std::abs(scaled - tenths) > 1e-9 * tenths) {
+    table.fail(kGridStepKey,
+               "expected a whole number of tenths of a degree (5, 2.5, 1, 0.5), got " +
+                   describe_value(*table.find(kGridStepKey)));
+  }
+  return static_cast<std::int32_t>(tenths);
+}
+
+// [shoulder, elbow] or [min, max] of integer degrees in [-360, 360], each a
+// multiple of the grid step (step_tenths). A value on the paper's 5-degree grid
+// that a coarser grid_step_degrees misses is the step's fault and reported there.
 std::array<std::int32_t, 2> degree_pair(const TomlTableReader& table, std::string_view key,
-                                        const std::string& names,
+                                        const std::string& names, std::int32_t step_tenths,
                                         std::optional<std::array<std::int32_t, 2>> fallback = {}) {
-  if (!table.has(key) && fallback) return *fallback;
-  const toml::array& array = pair_array(table, key, "integers " + names + " in degrees");
+  const std::string step = arm::grid_step_text(step_tenths);
   std::array<std::int32_t, 2> pair{};
-  for (std::size_t i = 0; i < 2; ++i) {
-    const toml::node& element = array[i];
-    const auto* integer = element.as_integer();
-    const std::string expectation = "expected integer degrees, multiples of " +
-                                    std::to_string(arm::kStepDegrees) + " in [-360, 360], got ";
-    if (integer == nullptr || integer->get() < -360 || integer->get() > 360 ||
-        integer->get() % arm::kStepDegrees != 0) {
-      table.fail_at(element, key, expectation + describe_value(element));
+  if (!table.has(key) && fallback) {
+    pair = *fallback;
+  } else {
+    const toml::array& array = pair_array(table, key, "integers " + names + " in degrees");
+    for (std::size_t i = 0; i < 2; ++i) {
+      const toml::node& element = array[i];
+      const auto* integer = element.as_integer();
+      const std::string expectation =
+          "expected integer degrees, multiples of " + step + " in [-360, 360], got ";
+      if (integer == nullptr || integer->get() < -360 || integer->get() > 360 ||
+          (integer->get() * arm::kTenthsPerDegree % step_tenths != 0 &&
+           integer->get() % arm::kJointUnitDegrees != 0)) {
+        table.fail_at(element, key, expectation + describe_value(element));
+      }
+      pair[i] = static_cast<std::int32_t>(integer->get());
     }
-    pair[i] = static_cast<std::int32_t>(integer->get());
+  }
+  for (const std::int32_t value : pair) {
+    if (value * arm::kTenthsPerDegree % step_tenths != 0) {
+      table.fail(kGridStepKey, "a grid step of " + step + " degrees does not divide " +
+                                   std::string(key) + " [" + std::to_string(pair[0]) + ", " +
+                                   std::to_string(pair[1]) +
+                                   "]: the joint limits and start_A must be multiples of it");
+    }
   }
   return pair;
 }
 
 // Joint limits [min, max]: min <= max, spanning less than 360 degrees.
 std::array<std::int32_t, 2> limits(const TomlTableReader& table, std::string_view key,
-                                   std::array<std::int32_t, 2> fallback) {
-  const std::array<std::int32_t, 2> range = degree_pair(table, key, "[min, max]", fallback);
+                                   std::int32_t step_tenths, std::array<std::int32_t, 2> fallback) {
+  const std::array<std::int32_t, 2> range =
+      degree_pair(table, key, "[min, max]", step_tenths, fallback);
   if (range[0] > range[1]) {
     table.fail(key, "expected min <= max, got [" + std::to_string(range[0]) + ", " +
                         std::to_string(range[1]) + "]");
@@ -110,7 +141,7 @@ std::array<std::int32_t, 2> limits(const TomlTableReader& table, std::string_vie
   if (range[1] - range[0] >= 360) {
     table.fail(key, "the limits [" + std::to_string(range[0]) + ", " + std::to_string(range[1]) +
                         "] span 360 degrees or more; the joint does not wrap, so min and " +
-                        "max + 5 would be one pose twice");
+                        "max + one grid step would be one pose twice");
   }
   return range;
 }
@@ -161,13 +192,16 @@ std::vector<TomlTableReader> obstacle_tables(const TomlTableReader& table) {
   return readers;
 }
 
-// State vectors are joint angles in grid steps: distinct poses are at least 1
-// apart. A kernel's distance is at most a shortest path on the sample graph
-// (fewer than num_states edges, each at most the grid's diagonal) plus the
-// Euclidean distance to the nearest graph node (at most the diagonal).
+// State vectors are joint angles in units of 5 degrees: distinct poses are at
+// least one grid step (step / 5 units; 1 at the default) apart. A kernel's
+// distance is at most a shortest path on the sample graph (fewer than num_states
+// edges, each at most the grid's diagonal) plus the Euclidean distance to the
+// nearest graph node (at most the diagonal).
 DistanceScale arm_distance_scale(const arm::Arm& built) {
+  const double step = static_cast<double>(built.grid_step_tenths()) /
+                      (arm::kJointUnitDegrees * arm::kTenthsPerDegree);
   const double diagonal = std::hypot(built.shoulder_steps() - 1, built.elbow_steps() - 1);
-  return {1.0, static_cast<double>(built.num_states()) * std::max(diagonal, 1.0),
+  return {step, static_cast<double>(built.num_states()) * std::max(diagonal, 1.0) * step,
           "between neighbouring poses", "the number of poses times the joint grid's diagonal"};
 }
 
@@ -185,14 +219,15 @@ arm::ArmConfig parse_arm_table(const TomlTableReader& job) {
   geometry.link2_length = lengths[1];
   geometry.base = point(*table, "base", arm::Point2{});
 
+  config.grid_step_tenths = grid_step(*table);
   const arm::JointLimits defaults;
-  const auto shoulder =
-      limits(*table, "shoulder_limits", {defaults.shoulder_min_deg, defaults.shoulder_max_deg});
-  const auto elbow =
-      limits(*table, "elbow_limits", {defaults.elbow_min_deg, defaults.elbow_max_deg});
+  const auto shoulder = limits(*table, "shoulder_limits", config.grid_step_tenths,
+                               {defaults.shoulder_min_deg, defaults.shoulder_max_deg});
+  const auto elbow = limits(*table, "elbow_limits", config.grid_step_tenths,
+                            {defaults.elbow_min_deg, defaults.elbow_max_deg});
   config.limits = {shoulder[0], shoulder[1], elbow[0], elbow[1]};
-  const auto start = degree_pair(*table, "start_A", "[shoulder, elbow]");
-  config.start_A = {start[0], start[1]};
+  const auto start = degree_pair(*table, "start_A", "[shoulder, elbow]", config.grid_step_tenths);
+  config.start_A = {static_cast<double>(start[0]), static_cast<double>(start[1])};
 
   const std::vector<TomlTableReader> obstacles = obstacle_tables(*table);
   for (const TomlTableReader& reader : obstacles) geometry.obstacles.push_back(obstacle(reader));
@@ -230,6 +265,8 @@ arm::ArmConfig parse_arm_table(const TomlTableReader& job) {
         table->fail("shoulder_limits", error.what());
       case arm::ArmConfigField::elbow_limits:
         table->fail("elbow_limits", error.what());
+      case arm::ArmConfigField::grid_step:
+        table->fail(kGridStepKey, error.what());
       case arm::ArmConfigField::obstacles:
         if (error.index() >= 0 && static_cast<std::size_t>(error.index()) < obstacles.size()) {
           obstacles[static_cast<std::size_t>(error.index())].fail_table(error.what());

@@ -31,7 +31,7 @@ namespace {
 
 // The pose's base, elbow and end effector, x then y each.
 void push_pose(std::vector<double>& values, const sims::arm::ArmGeometry& geometry,
-               std::int32_t shoulder_deg, std::int32_t elbow_deg) {
+               double shoulder_deg, double elbow_deg) {
   const sims::arm::ArmPose pose = sims::arm::forward_kinematics(geometry, shoulder_deg, elbow_deg);
   values.insert(values.end(), {pose.base.x, pose.base.y, pose.elbow.x, pose.elbow.y,
                                pose.end_effector.x, pose.end_effector.y});
@@ -56,17 +56,14 @@ std::vector<NamedArray> workspace_arrays(const sims::arm::Arm& arm,
       "workspace/object", {3}, {g.object.center.x, g.object.center.y, g.object.radius}};
   NamedArray pose_a{"workspace/pose_A", {3, 2}, {}};
   push_pose(pose_a.values, g, config.start_A.shoulder_deg, config.start_A.elbow_deg);
-  NamedArray angles_a{"workspace/pose_A_deg",
-                      {2},
-                      {static_cast<double>(config.start_A.shoulder_deg),
-                       static_cast<double>(config.start_A.elbow_deg)}};
+  NamedArray angles_a{
+      "workspace/pose_A_deg", {2}, {config.start_A.shoulder_deg, config.start_A.elbow_deg}};
   NamedArray goals{"workspace/goal_poses", {0, 6}, {}};
   NamedArray goal_angles{"workspace/goal_poses_deg", {0, 2}, {}};
   for (std::int32_t s : arm.goal_states()) {
     const sims::arm::JointAngles angles = arm.angles_of(s);
     push_pose(goals.values, g, angles.shoulder_deg, angles.elbow_deg);
-    goal_angles.values.insert(goal_angles.values.end(), {static_cast<double>(angles.shoulder_deg),
-                                                         static_cast<double>(angles.elbow_deg)});
+    goal_angles.values.insert(goal_angles.values.end(), {angles.shoulder_deg, angles.elbow_deg});
   }
   goals.shape[0] = static_cast<std::int64_t>(arm.goal_states().size());
   goal_angles.shape[0] = goals.shape[0];
@@ -102,7 +99,7 @@ RunRecord run_arm(const sims::arm::ArmConfig& config, const JobSpec& job, std::i
 }
 
 RunMemoryEstimate estimate_arm_run(const sims::arm::ArmConfig& config, const JobSpec& job) {
-  const sims::arm::Arm arm(config);  // at most 72 x 72 poses, as the parser built it
+  const sims::arm::Arm arm(config);  // as the parser built it (3600 x 3600 poses at most)
   const double cells = static_cast<double>(arm.shoulder_steps()) * arm.elbow_steps();
   DiscreteSizes sizes;
   sizes.states = arm.num_states();

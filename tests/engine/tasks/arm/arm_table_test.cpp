@@ -102,6 +102,7 @@ TEST(ArmTable, ReadsKeysAndDefaults) {
   EXPECT_EQ(config.series, 50);
   EXPECT_EQ(config.steps_per_series, 1000);
   EXPECT_EQ(config.test_max_steps, 100);
+  EXPECT_EQ(config.grid_step_tenths, 50);  // the paper's 5 degrees
 
   const JobSpec other = parse_job(arm_job_with(10, R"(start_A = [20, -5]
 base = [0.25, 0.05]
@@ -121,6 +122,31 @@ test_max_steps = 12)"),
   EXPECT_EQ(c.series, 7);
   EXPECT_EQ(c.steps_per_series, 30);
   EXPECT_EQ(c.test_max_steps, 12);
+}
+
+TEST(ArmTable, ReadsTheGridStep) {
+  const auto step_of = [](const std::string& value) {
+    const JobSpec job =
+        parse_job(arm_job_with(10, "start_A = [110, 0]\ngrid_step_degrees = " + value), "arm.toml",
+                  task_tables(), no_output_check());
+    return task_config_as<ArmConfig>(job).grid_step_tenths;
+  };
+  EXPECT_EQ(step_of("5"), 50);
+  EXPECT_EQ(step_of("5.0"), 50);
+  EXPECT_EQ(step_of("2.5"), 25);
+  EXPECT_EQ(step_of("1"), 10);
+  EXPECT_EQ(step_of("0.5"), 5);
+  // start_A off the 5-degree grid is on the 1-degree one.
+  const JobSpec fine = parse_job(
+      arm_job_with(10, "start_A = [112, -3]\ngrid_step_degrees = 1.0\nshoulder_limits = [1, 179]"),
+      "arm.toml", task_tables(), no_output_check());
+  const ArmConfig& config = task_config_as<ArmConfig>(fine);
+  EXPECT_EQ(config.start_A, (sims::arm::JointAngles{112, -3}));
+  EXPECT_EQ(config.limits.shoulder_min_deg, 1);
+  const Arm arm(config);
+  EXPECT_EQ(arm.shoulder_steps(), 179);
+  EXPECT_EQ(arm.elbow_steps(), 356);
+  EXPECT_EQ(arm.angles_of(arm.start_state_A()), (sims::arm::JointAngles{112.0, -3.0}));
 }
 
 struct MalformedArm {
@@ -239,6 +265,34 @@ std::vector<MalformedArm> malformed_arms() {
       {"too many samples",
        arm_job_with(10, "start_A = [110, 0]\nseries = 100000\nsteps_per_series = 100000"),
        {"bad.toml:12:1: [arm] steps_per_series:", "10000000000 samples"}},
+      {"grid step 0",
+       arm_job_with(10, "start_A = [110, 0]\ngrid_step_degrees = 0"),
+       {"bad.toml:11:1: [arm] grid_step_degrees:", "got 0"}},
+      {"grid step negative",
+       arm_job_with(10, "start_A = [110, 0]\ngrid_step_degrees = -5"),
+       {"bad.toml:11:1: [arm] grid_step_degrees:", "got -5"}},
+      {"grid step a string",
+       arm_job_with(10, "start_A = [110, 0]\ngrid_step_degrees = \"5\""),
+       {"bad.toml:11:1: [arm] grid_step_degrees:", "got \"5\""}},
+      {"grid step of a full turn",
+       arm_job_with(10, "start_A = [110, 0]\ngrid_step_degrees = 360"),
+       {"bad.toml:11:1: [arm] grid_step_degrees:", "got 360"}},
+      {"grid step below a tenth",
+       arm_job_with(10, "start_A = [110, 0]\ngrid_step_degrees = 0.05"),
+       {"bad.toml:11:1: [arm] grid_step_degrees:", "got 0.05"}},
+      {"grid step not whole tenths",
+       arm_job_with(10, "start_A = [110, 0]\ngrid_step_degrees = 0.25"),
+       {"bad.toml:11:1: [arm] grid_step_degrees: expected a whole number of tenths", "got 0.25"}},
+      {"grid step not dividing the default elbow limits",
+       arm_job_with(10, "start_A = [110, 0]\ngrid_step_degrees = 10"),
+       {"bad.toml:11:1: [arm] grid_step_degrees: a grid step of 10 degrees does not divide "
+        "elbow_limits [-180, 175]"}},
+      {"grid step not dividing start_A",
+       arm_job_with(10, "start_A = [110, 5]\ngrid_step_degrees = 10\nelbow_limits = [-180, 170]"),
+       {"bad.toml:11:1: [arm] grid_step_degrees:", "does not divide start_A [110, 5]"}},
+      {"start_A off a 2.5-degree grid",
+       arm_job_with(10, "start_A = [112, 0]\ngrid_step_degrees = 2.5"),
+       {"bad.toml:10:12: [arm] start_A:", "multiples of 2.5", "got 112"}},
       {"test_max_steps wrong type",
        arm_job_with(10, "start_A = [110, 0]\ntest_max_steps = 1.5"),
        {"bad.toml:11:1: [arm] test_max_steps:", "got 1.5"}},
