@@ -34,15 +34,23 @@ STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "or
 
 
 def grid_axes(run_group):
-    """(state_of grid, shoulder angles, elbow angles) in degrees."""
+    """(state_of grid, shoulder angles, elbow angles) in degrees. graph/nodes holds
+    the joint angles / 5 at any grid step ([arm] grid_step_degrees, default 5);
+    the step is read off two free cells in different rows or columns."""
     state_of = run_group["grid/state_of"][:].astype(int)
     nodes = run_group["graph/nodes"][:]
-    i, j = np.argwhere(state_of >= 0)[0]
-    s = state_of[i, j]
-    shoulder0 = 5 * nodes[s, 0] - 5 * i
-    elbow0 = 5 * nodes[s, 1] - 5 * j
-    shoulders = shoulder0 + 5 * np.arange(state_of.shape[0])
-    elbows = elbow0 + 5 * np.arange(state_of.shape[1])
+    cells = np.argwhere(state_of >= 0)
+    angles = 5 * nodes[state_of[cells[:, 0], cells[:, 1]]]  # (free cells, 2) in degrees
+    step = 5.0  # a grid of one free cell has no step to read; any will do
+    for axis in (0, 1):
+        moved = np.flatnonzero(cells[:, axis] != cells[0, axis])
+        if moved.size:
+            k = moved[0]
+            step = (angles[k, axis] - angles[0, axis]) / (cells[k, axis] - cells[0, axis])
+            step = round(step * 10) / 10  # steps are whole tenths of a degree
+            break
+    shoulders = angles[0, 0] + step * (np.arange(state_of.shape[0]) - cells[0, 0])
+    elbows = angles[0, 1] + step * (np.arange(state_of.shape[1]) - cells[0, 1])
     return state_of, shoulders, elbows
 
 
@@ -59,7 +67,10 @@ def trajectory_angles(nodes, trajectory):
 
 
 def extent(shoulders, elbows):
-    return [elbows[0] - 2.5, elbows[-1] + 2.5, shoulders[0] - 2.5, shoulders[-1] + 2.5]
+    """imshow's extent: each cell centred on its angles, half a grid step each side."""
+    half = (shoulders[1] - shoulders[0]) / 2 if len(shoulders) > 1 else (
+        (elbows[1] - elbows[0]) / 2 if len(elbows) > 1 else 2.5)
+    return [elbows[0] - half, elbows[-1] + half, shoulders[0] - half, shoulders[-1] + half]
 
 
 def fit_groups(run, basis, kernels):

@@ -70,7 +70,7 @@ def main():
                  label=f"goal poses ({len(goals)})" if i == 0 else None)
     pose_a = w["pose_A"].reshape(3, 2)
     draw_arm(ax, pose_a, color="tab:red", linewidth=4.0, zorder=4,
-             label="pose A (shoulder %d\u00b0, elbow %d\u00b0)" % tuple(w["pose_A_deg"]))
+             label="pose A (shoulder %g\u00b0, elbow %g\u00b0)" % tuple(w["pose_A_deg"]))
     ax.plot(pose_a[1:, 0], pose_a[1:, 1], "o", color="tab:red", markersize=5, zorder=5)
     base = pose_a[0]
     ax.plot(base[0], base[1], "ks", markersize=9, zorder=6, label="base (shoulder joint)")
