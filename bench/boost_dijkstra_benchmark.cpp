@@ -2,7 +2,10 @@
 // implementation) on the same grid graphs and sources as dijkstra_benchmark's
 // BM_GeodesicDistances with one thread. Args: rows, cols, sources. Before timing,
 // each case checks that Boost's distances equal kernels::geodesic_distances bit
-// for bit (the benchmark reports an error otherwise).
+// for bit (the benchmark reports an error otherwise). BM_GeodesicDistancesBesideBoost
+// times geodesic_distances in a one-thread arena on the same cases, so that one run
+// of this executable, best with --benchmark_enable_random_interleaving=true on a
+// shared machine, gives the ratio.
 
 #include <boost/graph/compressed_sparse_row_graph.hpp>
 #include <boost/graph/dijkstra_shortest_paths.hpp>
@@ -13,6 +16,7 @@
 #include <vector>
 
 #include <benchmark/benchmark.h>
+#include <tbb/task_arena.h>
 
 #include "bench/grid_graphs.hpp"
 #include "kernels/shortest_paths.hpp"
@@ -73,12 +77,32 @@ void BM_BoostGraphDijkstra(benchmark::State& state) {
                                                    benchmark::Counter::kIsIterationInvariantRate);
 }
 
-BENCHMARK(BM_BoostGraphDijkstra)
-    ->ArgNames({"rows", "cols", "p"})
-    ->Args({37, 72, 100})
-    ->Args({360, 360, 16})
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+void BM_GeodesicDistancesBesideBoost(benchmark::State& state) {
+  const auto rows = static_cast<std::int32_t>(state.range(0));
+  const auto cols = static_cast<std::int32_t>(state.range(1));
+  const auto p = static_cast<std::int32_t>(state.range(2));
+  const kernels::CsrGraph graph = grid_graph(rows, cols);
+  const std::vector<std::int32_t> sources = spread_sources(graph.num_nodes, p);
+  tbb::task_arena arena(1);
+  for (auto _ : state) {
+    kernels::RowMatrixXd distances;
+    arena.execute([&] { distances = kernels::geodesic_distances(graph, sources); });
+    benchmark::DoNotOptimize(distances.data());
+  }
+  state.counters["settled/s"] = benchmark::Counter(static_cast<double>(graph.num_nodes) * p,
+                                                   benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void peer_cases(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"rows", "cols", "p"})
+      ->Args({37, 72, 100})
+      ->Args({360, 360, 16})
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime();
+}
+
+BENCHMARK(BM_BoostGraphDijkstra)->Apply(peer_cases);
+BENCHMARK(BM_GeodesicDistancesBesideBoost)->Apply(peer_cases);
 
 }  // namespace
 }  // namespace ggk::bench
