@@ -31,6 +31,16 @@ const char* to_string(LspiSolver solver) {
   return "unknown";
 }
 
+const char* to_string(LspiStopping stopping) {
+  switch (stopping) {
+    case LspiStopping::policy_unchanged:
+      return "policy";
+    case LspiStopping::weights_converged:
+      return "weights";
+  }
+  return "unknown";
+}
+
 namespace {
 
 // A as CHOLMOD / UMFPACK take it: compressed columns, the lower triangle only when
@@ -72,6 +82,9 @@ void check_options(std::int32_t num_actions, const LspiOptions& options) {
     throw std::invalid_argument("fit_lspi: ridge must be finite and >= 0");
   }
   if (options.max_iterations < 1) throw std::invalid_argument("fit_lspi: max_iterations < 1");
+  if (!(options.weight_tolerance >= 0.0) || !std::isfinite(options.weight_tolerance)) {
+    throw std::invalid_argument("fit_lspi: weight_tolerance must be finite and >= 0");
+  }
 }
 
 void check_inputs(const SparseRowMatrix& features, std::int32_t num_actions,
@@ -266,14 +279,20 @@ LspiResult iterate_policies(ActionBlockSystem& system, std::size_t num_states,
     for (std::size_t s = 0; s < num_states; ++s) {
       changes += (on_samples[s] && improved[s] != policy[s]) ? 1 : 0;
     }
+    const double weight_change =
+        result.weights.size() == 0 ? w.norm() : (w - result.weights).norm();
     result.history.push_back(
-        {changes, report.relative_residual, report.rcond, report.reused_analysis});
+        {changes, weight_change, report.relative_residual, report.rcond, report.reused_analysis});
+    if (options.keep_iterates) result.iterates.push_back(w);
     result.weights = std::move(w);
     result.policy = improved;
     result.a = std::move(a);
     result.b = std::move(b);
     policy = std::move(improved);
-    if (changes == 0) {
+    const bool stop = options.stopping == LspiStopping::policy_unchanged
+                          ? changes == 0
+                          : weight_change <= options.weight_tolerance;
+    if (stop) {
       result.status = LspiStatus::converged;
       return result;
     }

@@ -13,9 +13,15 @@
 // formed block by block with dense BLAS products, then compressed for the solver.
 // Policy improvement, Eq. (6): pi(s) = argmax_a Q(s, a), ties to the lowest action.
 // The first policy is the greedy policy of w = 0, i.e. action 0 everywhere.
-// Iteration stops when the greedy action stops changing on every sample state (a
-// state some sample starts from or bootstraps from), or after max_iterations
-// evaluations. The returned policy covers all table states.
+// Iteration stops by one of two rules (LspiStopping), or after max_iterations
+// evaluations:
+//   policy_unchanged   the greedy action stopped changing on every sample state (a
+//                      state some sample starts from or bootstraps from);
+//   weights_converged  ||w_k - w_{k-1}||_2 <= weight_tolerance, w_0 = 0: the rule of
+//                      Lagoudakis & Parr's LSPI code (lspi.m; its Python port
+//                      lspi-python defaults epsilon to 1e-5).
+// Both quantities are recorded for every iteration whichever rule stops it. The
+// returned policy covers all table states.
 //
 // Thread-safety: fit_lspi is reentrant; distinct calls may run in parallel.
 
@@ -31,26 +37,33 @@ namespace ggk::kernels {
 
 enum class LspiSolver { brm, lstdq };
 
+enum class LspiStopping { policy_unchanged, weights_converged };
+
 struct LspiOptions {
   double gamma = 0.9;
   double ridge = 0.0;  // lambda
   std::int32_t max_iterations = 20;
   LspiSolver solver = LspiSolver::brm;
+  LspiStopping stopping = LspiStopping::policy_unchanged;
+  double weight_tolerance = 1e-5;  // epsilon of weights_converged
+  bool keep_iterates = false;      // LspiResult::iterates holds every evaluation's weights
   SolverSettings solver_settings{};
 };
 
 enum class LspiStatus {
-  converged,       // the greedy policy stopped changing
+  converged,       // the stopping rule held
   max_iterations,  // still changing after max_iterations evaluations
   solver_failed,   // an evaluation system was singular or ill-conditioned
 };
 
 const char* to_string(LspiStatus status);
 const char* to_string(LspiSolver solver);
+const char* to_string(LspiStopping stopping);  // "policy" or "weights"
 
 struct LspiIteration {
   std::int32_t policy_changes =
-      0;  // sample states whose greedy action changed after this evaluation
+      0;                       // sample states whose greedy action changed after this evaluation
+  double weight_change = 0.0;  // ||w_k - w_{k-1}||_2, w_0 = 0
   double relative_residual = 0.0;
   double rcond = 0.0;
   bool reused_analysis = false;
@@ -58,10 +71,11 @@ struct LspiIteration {
 
 struct LspiResult {
   LspiStatus status = LspiStatus::max_iterations;
-  std::string message;                 // the solver's reason when status is solver_failed
-  Eigen::VectorXd weights;             // of the last successful evaluation; size 0 if none
-  std::vector<std::int32_t> policy;    // greedy action per table state for `weights`
-  std::vector<LspiIteration> history;  // one entry per successful evaluation
+  std::string message;                    // the solver's reason when status is solver_failed
+  Eigen::VectorXd weights;                // of the last successful evaluation; size 0 if none
+  std::vector<std::int32_t> policy;       // greedy action per table state for `weights`
+  std::vector<LspiIteration> history;     // one entry per successful evaluation
+  std::vector<Eigen::VectorXd> iterates;  // with keep_iterates: w_1 .. w_k, else empty
   SparseColMatrix a;  // system of the last successful evaluation (BRM: lower triangle only)
   Eigen::VectorXd b;
 

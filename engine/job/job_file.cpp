@@ -35,13 +35,15 @@ constexpr std::size_t kMaxFileNameBytes = 255;
 constexpr std::array<std::string_view, 8> kCommonTopLevelKeys = {
     "name", "task", "runs", "seed", "sweep", "basis", "lspi", "output"};
 constexpr std::array<std::string_view, 2> kBasisKeys = {"scheme", "truncation"};
-constexpr std::array<std::string_view, 4> kLspiKeys = {"gamma", "max_iterations", "fold_duplicates",
-                                                       "min_rcond"};
+constexpr std::array<std::string_view, 7> kLspiKeys = {
+    "gamma",    "max_iterations",   "fold_duplicates",    "min_rcond",
+    "stopping", "weight_tolerance", "evaluate_iterations"};
 constexpr std::array<std::string_view, 3> kOutputKeys = {"file", "compression", "store_matrices"};
 
 constexpr std::array<std::string_view, 2> kKernelTypeNames = {"ggk", "ogk"};
 constexpr std::array<std::string_view, 2> kSolverNames = {"brm", "lstdq"};
 constexpr std::array<std::string_view, 2> kSchemeNames = {"shift", "copy"};
+constexpr std::array<std::string_view, 2> kStoppingNames = {"policy", "weights"};
 
 bool is_valid_name(std::string_view name) {
   if (name.empty()) return false;
@@ -100,6 +102,12 @@ LspiSettings parse_lspi(const TomlTableReader& job) {
       table.integer("max_iterations", {1, kInt32Max}, lspi.max_iterations));
   lspi.fold_duplicates = table.boolean("fold_duplicates", lspi.fold_duplicates);
   lspi.min_rcond = table.number("min_rcond", NumberRange::open(0.0, 1.0), lspi.min_rcond);
+  lspi.stopping = table.choice("stopping", kStoppingNames, "policy") == "weights"
+                      ? kernels::LspiStopping::weights_converged
+                      : kernels::LspiStopping::policy_unchanged;
+  lspi.weight_tolerance =
+      table.number("weight_tolerance", NumberRange::at_least(0.0), lspi.weight_tolerance);
+  lspi.evaluate_iterations = table.boolean("evaluate_iterations", lspi.evaluate_iterations);
   return lspi;
 }
 

@@ -50,6 +50,9 @@ struct LspiSettings {
   std::int32_t max_iterations = 20;
   bool fold_duplicates = true;  // merge identical transitions into weighted samples
   double min_rcond = 1e-14;     // smaller reciprocal condition estimates fail the fit
+  kernels::LspiStopping stopping = kernels::LspiStopping::policy_unchanged;
+  double weight_tolerance = 1e-5;    // epsilon of the "weights" rule
+  bool evaluate_iterations = false;  // store and test every iteration's weights
 };
 
 struct OutputSettings {

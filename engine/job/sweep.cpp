@@ -30,6 +30,9 @@ kernels::LspiOptions lspi_options(const JobSpec& job, const SweepPoint& point) {
   options.max_iterations = job.lspi.max_iterations;
   options.solver = point.solver;
   options.solver_settings.min_rcond = job.lspi.min_rcond;
+  options.stopping = job.lspi.stopping;
+  options.weight_tolerance = job.lspi.weight_tolerance;
+  options.keep_iterates = job.lspi.evaluate_iterations;
   return options;
 }
 

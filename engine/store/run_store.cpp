@@ -130,13 +130,15 @@ void write_fit(Hdf5File& file, const std::string& group, const FitRecord& fit, c
                     std::span<const double>(w.data(), static_cast<std::size_t>(w.size())));
   file.write_vector(group + "/policy", as_span(fit.lspi.policy));
   std::vector<std::int32_t> changes;
-  std::vector<double> residuals, rconds;
+  std::vector<double> weight_changes, residuals, rconds;
   for (const auto& it : fit.lspi.history) {
     changes.push_back(it.policy_changes);
+    weight_changes.push_back(it.weight_change);
     residuals.push_back(it.relative_residual);
     rconds.push_back(it.rcond);
   }
   file.write_vector(group + "/history/policy_changes", as_span(changes));
+  file.write_vector(group + "/history/weight_change", as_span(weight_changes));
   file.write_vector(group + "/history/relative_residual", as_span(residuals));
   file.write_vector(group + "/history/rcond", as_span(rconds));
   for (const auto& [name, value] : fit.metrics) file.write_double_attribute(group, name, value);
@@ -209,7 +211,7 @@ std::uint64_t run_bytes_bound(const JobSpec& job, const RunRecord& record) {
   for (const FitRecord& fit : record.fits) {
     bytes += 16 * kPerObjectOverhead + fit.centers.size() * 4 +
              static_cast<std::uint64_t>(fit.lspi.weights.size()) * 8 + fit.lspi.policy.size() * 4 +
-             fit.lspi.history.size() * 16 + fit.message.size();
+             fit.lspi.history.size() * 24 + fit.message.size();
     if (job.output.store_matrices) {
       bytes += static_cast<std::uint64_t>(fit.lspi.a.nonZeros()) * 12 +
                static_cast<std::uint64_t>(fit.lspi.a.rows() + fit.lspi.b.size()) * 8;

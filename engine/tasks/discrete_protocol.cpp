@@ -240,6 +240,78 @@ double roll_out(const RunContext& ctx, const std::vector<std::int32_t>& policy, 
   return -1.0;
 }
 
+// One test of a greedy policy (the protocol's test, sec. 4): a roll-out from every
+// start state, then one from each named start, all from a fresh copy of the fit's
+// evaluation stream (so the test of the last iterate is the fit's own test).
+struct PolicyTest {
+  double success = 0.0;       // fraction of start states that reach a goal
+  double mean_steps = kNaN;   // over the successful roll-outs
+  std::vector<double> steps;  // per start state, -1 when it did not arrive
+  std::vector<double> named_steps;
+  std::vector<std::vector<std::int32_t>> trajectories;  // per named start, when asked
+};
+
+PolicyTest test_policy(const RunContext& ctx, const SweepPoint& point,
+                       const std::vector<std::int32_t>& policy, bool keep_trajectories) {
+  const DiscreteEnvironment& env = *ctx.env;
+  kernels::RandomStream random = stream_for(ctx.job->seed, ctx.run, Purpose::evaluation,
+                                            static_cast<std::uint32_t>(point.index));
+  PolicyTest test;
+  test.steps.reserve(env.start_states.size());
+  double successes = 0.0, step_sum = 0.0;
+  for (std::int32_t start : env.start_states) {
+    test.steps.push_back(roll_out(ctx, policy, start, random, nullptr));
+    if (test.steps.back() >= 0) {
+      successes += 1.0;
+      step_sum += test.steps.back();
+    }
+  }
+  for (const auto& named : env.named_starts) {
+    std::vector<std::int32_t> trajectory;
+    test.named_steps.push_back(
+        roll_out(ctx, policy, named.second, random, keep_trajectories ? &trajectory : nullptr));
+    if (keep_trajectories) test.trajectories.push_back(std::move(trajectory));
+  }
+  test.success = successes / static_cast<double>(test.steps.size());
+  test.mean_steps = successes > 0 ? step_sum / successes : kNaN;
+  return test;
+}
+
+// [lspi] evaluate_iterations: every iteration's weights (history/weights,
+// iterations x k) and its greedy policy's test, one value per iteration, under the
+// fit's metric names (history/success_rate, history/mean_steps_to_goal,
+// history/success_from_A, ...). The last entries equal the fit's own metrics.
+void add_iteration_tests(const RunContext& ctx, const SweepPoint& point,
+                         const kernels::SparseRowMatrix& features, FitRecord& fit) {
+  const DiscreteEnvironment& env = *ctx.env;
+  const auto iterations = static_cast<std::int64_t>(fit.lspi.iterates.size());
+  const auto k = static_cast<std::int64_t>(fit.lspi.iterates.front().size());
+  NamedArray weights{"history/weights", {iterations, k}, {}};
+  weights.values.reserve(static_cast<std::size_t>(iterations * k));
+  std::vector<std::vector<double>> series(2 + 2 * env.named_starts.size());
+  for (const Eigen::VectorXd& w : fit.lspi.iterates) {
+    weights.values.insert(weights.values.end(), w.data(), w.data() + w.size());
+    const PolicyTest test =
+        test_policy(ctx, point, kernels::greedy_policy(features, env.num_actions, w), false);
+    series[0].push_back(test.success);
+    series[1].push_back(test.mean_steps);
+    for (std::size_t i = 0; i < env.named_starts.size(); ++i) {
+      const double steps = test.named_steps[i];
+      series[2 + 2 * i].push_back(steps >= 0 ? 1.0 : 0.0);
+      series[3 + 2 * i].push_back(steps >= 0 ? steps : kNaN);
+    }
+  }
+  fit.arrays.push_back(std::move(weights));
+  std::vector<std::string> names = {discrete_metric_names()[0], discrete_metric_names()[1]};
+  for (const auto& named : env.named_starts) {
+    names.push_back("success_from_" + named.first);
+    names.push_back("steps_from_" + named.first);
+  }
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    fit.arrays.push_back({"history/" + names[i], {iterations}, std::move(series[i])});
+  }
+}
+
 FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   const auto started = std::chrono::steady_clock::now();
   FitRecord fit;
@@ -303,37 +375,26 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   if (fit.lspi.weights.size() == 0) {
     set_metrics(kNaN, kNaN, 0.0, {});
   } else {
-    kernels::RandomStream random = stream_for(ctx.job->seed, ctx.run, Purpose::evaluation,
-                                              static_cast<std::uint32_t>(point.index));
-    std::vector<double> steps;
-    steps.reserve(env.start_states.size());
-    double successes = 0.0, step_sum = 0.0;
-    for (std::int32_t start : env.start_states) {
-      steps.push_back(roll_out(ctx, fit.lspi.policy, start, random, nullptr));
-      if (steps.back() >= 0) {
-        successes += 1.0;
-        step_sum += steps.back();
-      }
-    }
-    std::vector<double> named_steps;
-    for (const auto& [name, start] : env.named_starts) {
-      std::vector<std::int32_t> trajectory;
-      named_steps.push_back(roll_out(ctx, fit.lspi.policy, start, random, &trajectory));
-      fit.arrays.push_back({"trajectory_" + name,
+    const PolicyTest test = test_policy(ctx, point, fit.lspi.policy, true);
+    set_metrics(test.success, test.mean_steps, static_cast<double>(fit.lspi.iterations()),
+                test.named_steps);
+    for (std::size_t i = 0; i < env.named_starts.size(); ++i) {
+      const std::vector<std::int32_t>& trajectory = test.trajectories[i];
+      fit.arrays.push_back({"trajectory_" + env.named_starts[i].first,
                             {static_cast<std::int64_t>(trajectory.size())},
                             std::vector<double>(trajectory.begin(), trajectory.end()),
                             ElementType::kInt32});
     }
-    set_metrics(successes / static_cast<double>(steps.size()),
-                successes > 0 ? step_sum / successes : kNaN,
-                static_cast<double>(fit.lspi.iterations()), named_steps);
-    fit.arrays.push_back(
-        {"steps_to_goal", {static_cast<std::int64_t>(steps.size())}, steps, ElementType::kInt32});
+    fit.arrays.push_back({"steps_to_goal",
+                          {static_cast<std::int64_t>(test.steps.size())},
+                          test.steps,
+                          ElementType::kInt32});
     const Eigen::VectorXd values =
         kernels::state_values(features, env.num_actions, fit.lspi.weights);
     fit.arrays.push_back({"state_values",
                           {static_cast<std::int64_t>(values.size())},
                           std::vector<double>(values.data(), values.data() + values.size())});
+    if (!fit.lspi.iterates.empty()) add_iteration_tests(ctx, point, features, fit);
   }
   fit.fit_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

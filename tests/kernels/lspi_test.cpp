@@ -356,5 +356,57 @@ TEST(Lspi, CopyLayoutGreedyPolicyEqualsTheSparseProduct) {
   EXPECT_FALSE(is_copy_layout(other, kActions));
 }
 
+// Lagoudakis & Parr's rule: stop when ||w_k - w_{k-1}|| <= epsilon. Once the greedy
+// policy repeats, the next system (and so the next w) is the same bit for bit, so
+// with epsilon = 0 the weights rule stops exactly one evaluation after the policy
+// rule, with the same weights and policy. Every iteration records the weight change
+// and, with keep_iterates, its weights.
+TEST(Lspi, WeightChangeRuleStopsOneEvaluationAfterThePolicyRule) {
+  for (const LspiSolver solver : {LspiSolver::brm, LspiSolver::lstdq}) {
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+      const TabularMdp mdp = random_mdp(20, 4, true, true, seed);
+      const SparseRowMatrix features = tabular_features(20, 4);
+      LspiOptions options;
+      options.solver = solver;
+      options.max_iterations = 100;
+      options.keep_iterates = true;
+      const LspiResult by_policy = fit_lspi(features, 4, full_coverage_samples(mdp), options);
+      options.stopping = LspiStopping::weights_converged;
+      options.weight_tolerance = 0.0;
+      const LspiResult by_weights = fit_lspi(features, 4, full_coverage_samples(mdp), options);
+      ASSERT_EQ(by_policy.status, LspiStatus::converged);
+      ASSERT_EQ(by_weights.status, LspiStatus::converged);
+      EXPECT_EQ(by_weights.iterations(), by_policy.iterations() + 1) << "seed " << seed;
+      EXPECT_EQ(by_weights.history.back().weight_change, 0.0);
+      EXPECT_EQ(by_weights.policy, by_policy.policy);
+      EXPECT_EQ(by_weights.weights, by_policy.weights);
+      for (const LspiResult* result : {&by_policy, &by_weights}) {
+        ASSERT_EQ(result->iterates.size(), result->history.size());
+        EXPECT_EQ(result->iterates.back(), result->weights);
+        EXPECT_EQ(result->history[0].weight_change, result->iterates[0].norm());
+        for (std::size_t i = 1; i < result->iterates.size(); ++i) {
+          EXPECT_EQ(result->history[i].weight_change,
+                    (result->iterates[i] - result->iterates[i - 1]).norm());
+        }
+      }
+    }
+  }
+}
+
+TEST(Lspi, WeightChangeRuleWithALargeToleranceStopsAfterOneEvaluation) {
+  const TabularMdp mdp = random_mdp(20, 4, true, true, 3);
+  LspiOptions options;
+  options.stopping = LspiStopping::weights_converged;
+  options.weight_tolerance = 1e300;
+  const LspiResult result =
+      fit_lspi(tabular_features(20, 4), 4, full_coverage_samples(mdp), options);
+  EXPECT_EQ(result.status, LspiStatus::converged);
+  EXPECT_EQ(result.iterations(), 1);
+  EXPECT_TRUE(result.iterates.empty());  // keep_iterates is off
+  options.weight_tolerance = -1.0;
+  EXPECT_THROW(fit_lspi(tabular_features(20, 4), 4, full_coverage_samples(mdp), options),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace ggk::kernels

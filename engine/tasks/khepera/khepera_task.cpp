@@ -178,6 +178,67 @@ std::int32_t greedy_action(const Eigen::VectorXd& weights, const Eigen::VectorXd
   return best;
 }
 
+// The protocol's test of greedy weights: test_episodes episodes from the start
+// pose, from a fresh copy of the fit's evaluation stream (so the test of the last
+// iterate is the fit's own test). A reading off the sample set is featurised with
+// the copy scheme (no transition model exists for it).
+struct EpisodeTest {
+  double mean_return = 0.0;
+  double collision_fraction = 0.0;
+  double mean_steps = 0.0;
+  std::vector<double> returns;
+  std::vector<NamedArray> trajectories;  // evaluation/trajectory_<episode>, when asked
+};
+
+EpisodeTest test_episodes(const RunContext& ctx, const SweepPoint& point,
+                          const ReadingKernels& kernels_of, const Eigen::VectorXd& weights,
+                          bool keep_trajectories) {
+  const khepera::Khepera& robot = *ctx.robot;
+  const std::int32_t m = robot.num_actions();
+  kernels::RandomStream random = stream_for(ctx.job->seed, ctx.run, Purpose::evaluation,
+                                            static_cast<std::uint32_t>(point.index));
+  const auto& c = robot.config();
+  EpisodeTest test;
+  double steps_survived = 0.0;
+  std::int32_t collided_episodes = 0;
+  for (std::int32_t episode = 0; episode < c.test_episodes; ++episode) {
+    khepera::Pose pose = robot.start_pose();
+    khepera::Readings reading = robot.sense(pose, random);
+    NamedArray trajectory{"evaluation/trajectory_" + std::to_string(episode), {0, 3}, {}};
+    if (keep_trajectories) {
+      trajectory.values.insert(trajectory.values.end(), {pose.x, pose.y, pose.heading});
+    }
+    double total = 0.0;
+    std::int32_t steps = 0;
+    for (; steps < c.test_max_steps; ++steps) {
+      const std::int32_t action = greedy_action(weights, kernels_of(reading), m);
+      const khepera::StepResult r = robot.step(pose, action, random);
+      total += r.reward;
+      pose = r.next_pose;
+      reading = r.observation;
+      if (keep_trajectories) {
+        trajectory.values.insert(trajectory.values.end(), {pose.x, pose.y, pose.heading});
+      }
+      if (r.collided) {
+        ++collided_episodes;
+        ++steps;
+        break;
+      }
+    }
+    if (keep_trajectories) {
+      trajectory.shape[0] = static_cast<std::int64_t>(trajectory.values.size() / 3);
+      test.trajectories.push_back(std::move(trajectory));
+    }
+    test.returns.push_back(total);
+    steps_survived += steps;
+  }
+  const auto episodes = static_cast<double>(c.test_episodes);
+  test.mean_return = std::accumulate(test.returns.begin(), test.returns.end(), 0.0) / episodes;
+  test.collision_fraction = collided_episodes / episodes;
+  test.mean_steps = steps_survived / episodes;
+  return test;
+}
+
 FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   const auto started = std::chrono::steady_clock::now();
   const khepera::Khepera& robot = *ctx.robot;
@@ -238,45 +299,30 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
     return fit;
   }
 
-  // Greedy episodes from the start pose. A reading off the sample set is
-  // featurised with the copy scheme (no transition model exists for it).
   const ReadingKernels kernels_of(ctx, point, fit.centers);
-  kernels::RandomStream random = stream_for(ctx.job->seed, ctx.run, Purpose::evaluation,
-                                            static_cast<std::uint32_t>(point.index));
-  const auto& c = robot.config();
-  std::vector<double> returns, steps_survived;
-  std::int32_t collided_episodes = 0;
-  for (std::int32_t episode = 0; episode < c.test_episodes; ++episode) {
-    khepera::Pose pose = robot.start_pose();
-    khepera::Readings reading = robot.sense(pose, random);
-    NamedArray trajectory{"evaluation/trajectory_" + std::to_string(episode), {0, 3}, {}};
-    trajectory.values.insert(trajectory.values.end(), {pose.x, pose.y, pose.heading});
-    double total = 0.0;
-    std::int32_t steps = 0;
-    for (; steps < c.test_max_steps; ++steps) {
-      const std::int32_t action = greedy_action(fit.lspi.weights, kernels_of(reading), m);
-      const khepera::StepResult r = robot.step(pose, action, random);
-      total += r.reward;
-      pose = r.next_pose;
-      reading = r.observation;
-      trajectory.values.insert(trajectory.values.end(), {pose.x, pose.y, pose.heading});
-      if (r.collided) {
-        ++collided_episodes;
-        ++steps;
-        break;
-      }
-    }
-    trajectory.shape[0] = static_cast<std::int64_t>(trajectory.values.size() / 3);
-    fit.arrays.push_back(std::move(trajectory));
-    returns.push_back(total);
-    steps_survived.push_back(steps);
-  }
-  const auto episodes = static_cast<double>(c.test_episodes);
-  set_metrics(std::accumulate(returns.begin(), returns.end(), 0.0) / episodes,
-              collided_episodes / episodes,
-              std::accumulate(steps_survived.begin(), steps_survived.end(), 0.0) / episodes);
+  EpisodeTest test = test_episodes(ctx, point, kernels_of, fit.lspi.weights, true);
+  set_metrics(test.mean_return, test.collision_fraction, test.mean_steps);
+  for (NamedArray& trajectory : test.trajectories) fit.arrays.push_back(std::move(trajectory));
   fit.arrays.push_back(
-      {"evaluation/returns", {static_cast<std::int64_t>(returns.size())}, returns});
+      {"evaluation/returns", {static_cast<std::int64_t>(test.returns.size())}, test.returns});
+  if (!fit.lspi.iterates.empty()) {
+    // [lspi] evaluate_iterations: every iteration's weights and its greedy
+    // policy's test under the fit's metric names; the last entries equal the fit's.
+    const auto iterations = static_cast<std::int64_t>(fit.lspi.iterates.size());
+    NamedArray weights{"history/weights", {iterations, fit.lspi.iterates.front().size()}, {}};
+    std::vector<double> returns, collisions, steps;
+    for (const Eigen::VectorXd& w : fit.lspi.iterates) {
+      weights.values.insert(weights.values.end(), w.data(), w.data() + w.size());
+      const EpisodeTest t = test_episodes(ctx, point, kernels_of, w, false);
+      returns.push_back(t.mean_return);
+      collisions.push_back(t.collision_fraction);
+      steps.push_back(t.mean_steps);
+    }
+    fit.arrays.push_back(std::move(weights));
+    fit.arrays.push_back({"history/" + names[0], {iterations}, std::move(returns)});
+    fit.arrays.push_back({"history/" + names[1], {iterations}, std::move(collisions)});
+    fit.arrays.push_back({"history/" + names[2], {iterations}, std::move(steps)});
+  }
 
   // Fig. 5: the greedy action at every SOM unit's prototype.
   NamedArray unit_policy{"unit_policy", {ctx.som->num_units()}, {}, ElementType::kInt32};

@@ -116,6 +116,9 @@ gamma = 0.95
 max_iterations = 30
 fold_duplicates = false
 min_rcond = 1e-12
+stopping = "weights"
+weight_tolerance = 1e-4
+evaluate_iterations = true
 
 [output]
 file = "%DIR%/out/full.h5"
@@ -151,6 +154,9 @@ TEST_F(JobFileTest, ReadsEveryKey) {
   EXPECT_EQ(job.lspi.max_iterations, 30);
   EXPECT_FALSE(job.lspi.fold_duplicates);
   EXPECT_EQ(job.lspi.min_rcond, 1e-12);
+  EXPECT_EQ(job.lspi.stopping, kernels::LspiStopping::weights_converged);
+  EXPECT_EQ(job.lspi.weight_tolerance, 1e-4);
+  EXPECT_TRUE(job.lspi.evaluate_iterations);
   EXPECT_EQ(job.output.file, dir_ / "out" / "full.h5");
   EXPECT_EQ(job.output.compression, 0);
   EXPECT_TRUE(job.output.store_matrices);
@@ -191,6 +197,9 @@ file = "%DIR%/out/minimal.h5"
   EXPECT_EQ(job.lspi.max_iterations, 20);
   EXPECT_TRUE(job.lspi.fold_duplicates);
   EXPECT_EQ(job.lspi.min_rcond, 1e-14);
+  EXPECT_EQ(job.lspi.stopping, kernels::LspiStopping::policy_unchanged);
+  EXPECT_EQ(job.lspi.weight_tolerance, 1e-5);
+  EXPECT_FALSE(job.lspi.evaluate_iterations);
   EXPECT_EQ(job.output.compression, 4);
   EXPECT_FALSE(job.output.store_matrices);
 }
@@ -426,6 +435,15 @@ std::vector<MalformedJob> malformed_jobs() {
        h + "[lspi]\nmax_iterations = 0\n",
        {"bad.toml:11:1: [lspi] max_iterations:", "got 0"}},
       {"min_rcond = 0", h + "[lspi]\nmin_rcond = 0\n", {"bad.toml:11:1: [lspi] min_rcond:"}},
+      {"stopping unknown",
+       h + "[lspi]\nstopping = \"weight\"\n",
+       {"bad.toml:11:1: [lspi] stopping:", "\"weight\"", "weights"}},
+      {"weight_tolerance < 0",
+       h + "[lspi]\nweight_tolerance = -1e-5\n",
+       {"bad.toml:11:1: [lspi] weight_tolerance:", "got -1e-05"}},
+      {"evaluate_iterations wrong type",
+       h + "[lspi]\nevaluate_iterations = 1\n",
+       {"bad.toml:11:1: [lspi] evaluate_iterations: expected true or false, got 1"}},
       {"fold_duplicates wrong type",
        h + "[lspi]\nfold_duplicates = \"yes\"\n",
        {"bad.toml:11:1: [lspi] fold_duplicates: expected true or false, got \"yes\""}},
