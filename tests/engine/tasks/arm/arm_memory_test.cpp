@@ -1,6 +1,7 @@
 // estimate_arm_run: grows with the walk, the kernels and the test length, stays
 // finite for the largest values the [arm] table accepts (issue 13, item 10), and
-// is no less than what a run's record holds (jobs/arm-quick.toml).
+// is no less than what a run's record holds (jobs/arm-quick.toml), at the
+// default joint grid and a finer one.
 
 #include <cmath>
 #include <cstdlib>
@@ -65,6 +66,21 @@ TEST_F(ArmMemory, GrowsWithTheWalkKernelsAndTests) {
   EXPECT_GT(estimate({{"test_max_steps", "100000"}}).record_bytes, estimate({}).record_bytes);
 }
 
+// arm-quick.toml's [arm] with a grid step (a key the file does not set).
+std::pair<std::string, std::string> grid_step(const std::string& degrees) {
+  return {"test_max_steps", "100\ngrid_step_degrees = " + degrees};
+}
+
+TEST_F(ArmMemory, GrowsWithTheJointGrid) {
+  const RunMemoryEstimate five = estimate({grid_step("5")});
+  EXPECT_EQ(five.peak(1), estimate({}).peak(1));
+  const RunMemoryEstimate fine = estimate({grid_step("2.5")});
+  const RunMemoryEstimate finer = estimate({grid_step("1")});
+  EXPECT_GT(fine.peak(1), five.peak(1));
+  EXPECT_GT(finer.peak(1), fine.peak(1));
+  EXPECT_GT(finer.record_bytes, fine.record_bytes);
+}
+
 TEST_F(ArmMemory, TheLargestValuesAreHugeAndFinite) {
   const RunMemoryEstimate walk = estimate({{"series", "1"}, {"steps_per_series", "2147483647"}});
   EXPECT_TRUE(std::isfinite(walk.peak(1)));
@@ -77,6 +93,14 @@ TEST_F(ArmMemory, TheLargestValuesAreHugeAndFinite) {
 
 TEST_F(ArmMemory, CoversWhatARunRecordHolds) {
   const JobSpec job = quick_with({{"steps_per_series", "200"}});
+  const RunMemoryEstimate e = find_task("arm")->estimate_run_bytes(job);
+  const double held = record_bytes(compute_run(job, 0));
+  EXPECT_GE(e.record_bytes, held);
+  EXPECT_LT(e.record_bytes, 10.0 * held);
+}
+
+TEST_F(ArmMemory, CoversWhatARunRecordHoldsOnAFinerGrid) {
+  const JobSpec job = quick_with({{"steps_per_series", "200"}, grid_step("2.5")});
   const RunMemoryEstimate e = find_task("arm")->estimate_run_bytes(job);
   const double held = record_bytes(compute_run(job, 0));
   EXPECT_GE(e.record_bytes, held);

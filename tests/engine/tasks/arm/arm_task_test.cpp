@@ -91,6 +91,57 @@ TEST(ArmTask, QuickJobRunsThePaperProtocol) {
   EXPECT_NEAR(nodes, 1605.0, 0.02 * 1605.0);
 }
 
+// arm-quick.toml on a 2.5-degree grid ([arm] grid_step_degrees): the stored grid
+// is the 73 x 143 one, every sample moves one joint by one step (0.5 state-vector
+// units of 5 degrees) in the action's direction or stays, and the goal poses are
+// on the 2.5-degree grid.
+TEST(ArmTask, FinerGridRunsOnItsOwnGrid) {
+  const char* source_dir = std::getenv("GGK_SOURCE_DIR");
+  ASSERT_NE(source_dir, nullptr) << "ctest sets GGK_SOURCE_DIR";
+  JobLoadOptions options;
+  options.check_output = false;
+  options.overrides = {"arm.grid_step_degrees=2.5", "arm.steps_per_series=200"};
+  const JobSpec job = load_job_file(std::filesystem::path(source_dir) / "jobs" / "arm-quick.toml",
+                                    task_tables(), options);
+  const auto& config = task_config_as<sims::arm::ArmConfig>(job);
+  ASSERT_EQ(config.grid_step_tenths, 25);
+  const sims::arm::Arm arm(config);
+  const RunRecord record = compute_run(job, 0);
+
+  const NamedArray* grid = array(record.arrays, "grid/state_of");
+  ASSERT_NE(grid, nullptr);
+  ASSERT_EQ(grid->shape, (std::vector<std::int64_t>{73, 143}));
+  for (std::int32_t i = 0; i < 73; ++i) {
+    for (std::int32_t j = 0; j < 143; ++j) {
+      ASSERT_EQ(grid->values[static_cast<std::size_t>(i * 143 + j)], arm.state_of(i, j));
+    }
+  }
+  // Action a moves coordinate a / 2 by +0.5 (even a) or -0.5 (odd a), or not at all.
+  const SampleRecord& samples = record.samples;
+  ASSERT_EQ(samples.actions.size(), 50u * 200u);
+  std::size_t moved = 0;
+  for (std::size_t n = 0; n < samples.actions.size(); ++n) {
+    const auto row = static_cast<Eigen::Index>(n);
+    const std::int32_t a = samples.actions[n];
+    const Eigen::Index joint = a / 2;
+    const double delta = samples.next_observations(row, joint) - samples.observations(row, joint);
+    ASSERT_EQ(samples.next_observations(row, 1 - joint), samples.observations(row, 1 - joint));
+    ASSERT_TRUE(delta == 0.0 || delta == (a % 2 == 0 ? 0.5 : -0.5)) << n << ": " << delta;
+    moved += delta != 0.0;
+  }
+  EXPECT_GT(moved, samples.actions.size() / 2);
+  // Goal poses: whole multiples of 2.5 degrees, more of them than the 16 at 5 degrees.
+  const NamedArray* goal_angles = array(record.arrays, "workspace/goal_poses_deg");
+  ASSERT_NE(goal_angles, nullptr);
+  EXPECT_GT(goal_angles->shape[0], 16);
+  bool off_the_coarse_grid = false;
+  for (const double angle : goal_angles->values) {
+    EXPECT_EQ(std::fmod(angle, 2.5), 0.0) << angle;
+    off_the_coarse_grid = off_the_coarse_grid || std::fmod(angle, 5.0) != 0.0;
+  }
+  EXPECT_TRUE(off_the_coarse_grid);
+}
+
 // The graph diagnostics of every fit (issue 11), recomputed from the stored run:
 // the graph's edges and degrees, the stretch over the centres of the largest fit,
 // and the kernel gap by brute force from Dijkstra's distances and Eqs. (7), (8).
