@@ -1,6 +1,9 @@
 """LSPI's stopping rules, measured (issue 11 item 4), from a results file made with
 [lspi] evaluate_iterations = true (every iteration's weights and test stored):
 
+  <stem>_swing.png        the metric vs kernels: the stored (cap) iterate and
+                          the band its policy swings through over the last 10
+                          iterations
   <stem>_iterations.png   the test metric of every iteration's greedy policy
                           (arm: success from A; khepera: mean return), mean over
                           runs, one panel per (solver, kernel count), GGK vs OGK
@@ -22,7 +25,7 @@ there with the same policy: its stopping point and metric are exact from a file
 run under either rule, up to the max_iterations cap of the job. A fit still
 changing at the cap ends on the cap's iterate under both rules; such a fit is
 `cycling` with period q when its last weights repeat those of q iterations
-before within 1e-9 relative (q = 2: two policies alternate), q <= 4.
+before within 1e-9 relative (q = 2: two policies alternate), q <= 16.
 """
 
 import argparse
@@ -40,6 +43,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ggk_results import add_format_argument, save, task_of  # noqa: E402
 
 STYLE = {"ggk": ("tab:red", "-", "geodesic (GGK)"), "ogk": ("tab:blue", "--", "ordinary (OGK)")}
+TAIL = 10  # the last iterations whose range shows a cycle's swing
 DEFAULT_METRIC = {"arm": "success_from_A", "maze": "success_rate", "khepera": "mean_return"}
 
 
@@ -84,7 +88,7 @@ def stopping_points(fit, epsilon, cap):
     """((iteration, stopped) of the policy rule, the same of the weights rule,
     cycle period or 0), iterations 1-based; `stopped` False means the rule never
     held before the cap (the fit ends on the cap's iterate). The period is the
-    smallest q <= 4 with w_n = w_(n-q) within 1e-9 relative, for a fit the policy
+    smallest q <= 16 with w_n = w_(n-q) within 1e-9 relative, for a fit the policy
     rule did not stop (q = 2: two policies alternate)."""
     changes, moved = fit["policy_changes"], fit["weight_change"]
     n = len(changes)
@@ -96,7 +100,7 @@ def stopping_points(fit, epsilon, cap):
     if by_policy is None:
         w = fit["weights"]
         scale = max(1.0, np.linalg.norm(w[-1]))
-        period = next((q for q in range(1, 5)
+        period = next((q for q in range(1, 17)
                        if n > q and np.linalg.norm(w[-1] - w[-1 - q]) <= 1e-9 * scale), 0)
     return ((by_policy or n, by_policy is not None), (by_weights or n, by_weights is not None),
             period)
@@ -139,7 +143,7 @@ def main():
           f"weights rule epsilon {args.epsilon:g}")
     print("solver basis kernels | fits | policy rule: stopped, mean it, metric | "
           "weights rule: stopped, mean it, metric | at the cap: cycles (count x period), "
-          "other | metric min..max over the last 4 it, mean over fits")
+          f"other | metric min..max over the last {TAIL} it, mean over fits")
     for solver in solvers:
         for k in counts:
             for basis in ("ggk", "ogk"):
@@ -155,14 +159,14 @@ def main():
                 it_p = np.mean([p[0][0] for p in points])
                 it_w = np.mean([p[1][0] for p in points])
                 periods = [p[2] for p in points if not p[0][1]]
-                cycling = " ".join(f"{periods.count(q)}x{q}" for q in range(1, 5)
+                cycling = " ".join(f"{periods.count(q)}x{q}" for q in range(1, 17)
                                    if periods.count(q)) or "-"
                 drifting = sum(q == 0 for q in periods)
-                tails = [f["metric"][-4:] for f in group]
+                tails = [padded(f["metric"], cap)[-TAIL:] for f in group]
                 low = np.mean([t.min() for t in tails])
                 high = np.mean([t.max() for t in tails])
                 print(f"{solver:5s} {basis} {k:4d} | {len(group):3d} | {stopped_p:3d} {it_p:5.1f} "
-                      f"{m_p:7.3f} | {stopped_w:3d} {it_w:5.1f} {m_w:7.3f} | {cycling:>9s} "
+                      f"{m_p:7.3f} | {stopped_w:3d} {it_w:5.1f} {m_w:7.3f} | {cycling:>14s} "
                       f"{drifting:3d} | "
                       f"{low:.3f}..{high:.3f}")
 
@@ -193,6 +197,36 @@ def main():
     fig.tight_layout(rect=(0, 0.06, 1, 0.95))
     stem = Path(args.results).stem
     print(save(fig, args.out_dir, f"{stem}_iterations", args.format))
+
+    # The metric vs kernels: the cap's iterate (what the fit stores) and the range
+    # its policy swings through over the last TAIL iterations (mean over runs of
+    # each run's min and max): a cycle's phase at the cap decides the stored value.
+    fig, axes = plt.subplots(1, len(solvers), figsize=(5 * len(solvers), 3.6), squeeze=False)
+    for c, solver in enumerate(solvers):
+        ax = axes[0][c]
+        for basis in ("ggk", "ogk"):
+            finals, lows, highs, shown = [], [], [], []
+            for k in counts:
+                group = [f for f in fits if f["solver"] == solver and f["basis"] == basis
+                         and f["kernels"] == k]
+                if not group:
+                    continue
+                tails = np.array([padded(f["metric"], cap)[-TAIL:] for f in group])
+                shown.append(k)
+                finals.append(np.mean(tails[:, -1]))
+                lows.append(np.mean(tails.min(axis=1)))
+                highs.append(np.mean(tails.max(axis=1)))
+            color, style, label = STYLE[basis]
+            ax.fill_between(shown, lows, highs, color=color, alpha=0.2, linewidth=0)
+            ax.plot(shown, finals, style, color=color, marker="o",
+                    label=f"{label}: iteration {cap} (stored)")
+        ax.set_xlabel("number of kernels")
+        ax.set_ylabel(metric)
+        ax.set_title(f"{solver}: band = mean min..max over the last {TAIL} iterations",
+                     fontsize=9)
+        ax.legend(fontsize=8, loc="upper left")
+    fig.tight_layout()
+    print(save(fig, args.out_dir, f"{stem}_swing", args.format))
 
 
 if __name__ == "__main__":

@@ -5,7 +5,8 @@
 #
 #   bash scripts/reproduce.sh            # full scale: maze, arm (Figs. 1-3),
 #                                        # Khepera (Figs. 4-6) and the rotation-step
-#                                        # study (30, 45 degrees; 45-degree widths)
+#                                        # study (30, 45 degrees; 45-degree widths),
+#                                        # the arm's LSPI iterations (stopping rules)
 #                                        # -> results/*.h5, results/figures/
 #   bash scripts/reproduce.sh --quick    # reduced: the paper's arm and Khepera jobs
 #                                        # with fewer runs and kernel counts (--set),
@@ -57,11 +58,21 @@ run jobs/khepera-paper.toml results/khepera-paper.h5 "$@"
 run jobs/khepera-turn30.toml results/khepera-turn30.h5 "$@"
 run jobs/khepera-turn45.toml results/khepera-turn45.h5 "$@"
 run jobs/khepera-turn45-widths.toml results/khepera-turn45-widths.h5 "$@"
+# LSPI's stopping rules (README "Why the arm's curve is not monotone"): the arm job
+# with every iteration's policy tested, BRM (as the paper) and LSTD-Q, cap 20 and 100.
+run jobs/arm-paper.toml results/arm-paper-iterations.h5 --set lspi.evaluate_iterations=true "$@"
+run jobs/arm-paper.toml results/arm-paper-lstdq-iterations.h5 --set lspi.evaluate_iterations=true \
+  --set 'sweep.solver=["lstdq"]' "$@"
+run jobs/arm-paper.toml results/arm-paper-cap100-iterations.h5 --set lspi.evaluate_iterations=true \
+  --set lspi.max_iterations=100 "$@"
 $python results/plot_maze.py results/maze.h5 "$figures"
 $python results/plot_arm.py results/arm-paper.h5 "$figures" --kernels 128
 $python results/plot_khepera.py results/khepera-paper.h5 "$figures"
 $python results/plot_khepera.py results/khepera-turn30.h5 "$figures" --prefix khepera_turn30
 $python results/plot_khepera.py results/khepera-turn45.h5 "$figures" --prefix khepera_turn45
+for f in arm-paper-iterations arm-paper-lstdq-iterations arm-paper-cap100-iterations; do
+  $python results/plot_iterations.py results/$f.h5 "$figures"
+done
 for extra in results/plot_arm_workspace.py results/plot_khepera_arena.py; do
   # Figures of the simulators' geometry, where this checkout has them.
   if [ -f "$extra" ]; then
