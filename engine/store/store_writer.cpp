@@ -7,7 +7,10 @@
 namespace ggk::engine {
 
 StoreWriter::StoreWriter(Hdf5File file, std::size_t queue_capacity, WhenIdle when_idle)
-    : file_(std::move(file)), capacity_(queue_capacity), when_idle_(when_idle) {
+    : file_(std::move(file)),
+      capacity_(queue_capacity),
+      when_idle_(when_idle),
+      opened_at_(std::chrono::steady_clock::now()) {
   if (capacity_ == 0) throw std::invalid_argument("StoreWriter queue capacity must be >= 1");
   thread_ = std::thread([this] { run_jobs(); });
 }
@@ -119,6 +122,7 @@ void StoreWriter::unpark_file() {
   *file_ = Hdf5File::reopen_for_writer(parked_path_);
   file_->set_gzip_level(parked_gzip_level_);
   parked_ = false;
+  opened_at_ = std::chrono::steady_clock::now();
 }
 
 void StoreWriter::run_jobs() {
@@ -146,11 +150,16 @@ void StoreWriter::run_jobs() {
     entry = Entry{};  // free the job's captured data outside the lock
 
     lock.lock();
-    if (!failure && !failure_ && queue_.empty() && when_idle_ == WhenIdle::kCloseForReaders &&
+    const bool idle = queue_.empty();
+    const bool overdue = std::chrono::steady_clock::now() - opened_at_ >= kReaderWindowEvery;
+    if (!failure && !failure_ && (idle || overdue) && when_idle_ == WhenIdle::kCloseForReaders &&
         !parked_ && file_ && !file_->in_memory()) {
       lock.unlock();
       try {
         park_file();
+        // Work is waiting: stay closed long enough for a retrying reader to
+        // get in (it then holds HDF5's lock; unpark_file waits for it).
+        if (!idle) std::this_thread::sleep_for(kReaderWindow);
       } catch (...) {
         failure = std::current_exception();
       }

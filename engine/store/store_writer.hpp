@@ -22,13 +22,19 @@
 // the file whenever its queue runs empty (after a run is committed) and opens it
 // again for the next job (Hdf5File::reopen_for_writer), so that h5py, h5ls and
 // `ggk info` can open the file between two commits instead of failing on HDF5's
-// lock until the job ends. In-memory files are never closed.
+// lock until the job ends. When the queue never runs empty (runs finish faster
+// than they are written, e.g. on a loaded machine) the writer still closes the
+// file once it has been open for kReaderWindowEvery, and leaves it closed for
+// kReaderWindow, longer than a reader's retry interval (50 ms,
+// Hdf5File::open_waiting_for_lock): a reader is never shut out for the whole
+// job. In-memory files are never closed.
 //
 // Thread-safety: submit(), submit_and_wait(), wait() and failed() may be called
 // concurrently from any threads except the writer thread itself (a job calling
 // them would wait on itself; that throws std::logic_error). close() and the
 // destructor must not run concurrently with other calls.
 
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -52,6 +58,8 @@ class StoreWriter {
   using Job = std::function<void(Hdf5File&)>;
   static constexpr std::size_t kDefaultQueueCapacity = 64;
   enum class WhenIdle { kKeepOpen, kCloseForReaders };
+  static constexpr std::chrono::milliseconds kReaderWindowEvery{1000};
+  static constexpr std::chrono::milliseconds kReaderWindow{120};
 
   // Takes the file over and starts the writer thread.
   explicit StoreWriter(Hdf5File file, std::size_t queue_capacity = kDefaultQueueCapacity,
@@ -109,6 +117,7 @@ class StoreWriter {
   std::filesystem::path parked_path_;
   int parked_gzip_level_ = 4;
   bool parked_ = false;
+  std::chrono::steady_clock::time_point opened_at_;  // when the file was last (re)opened
 
   mutable std::mutex mutex_;
   std::condition_variable work_available_;   // writer waits: queue non-empty or stopping

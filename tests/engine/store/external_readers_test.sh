@@ -119,10 +119,10 @@ print("ok")
 PY
 }
 
-retry() {  # command...: up to 20 tries 0.1 s apart (stdin: kept for each try)
+retry() {  # command...: up to 60 tries 0.1 s apart (stdin: kept for each try)
   local input
   input=$(cat)
-  for _ in $(seq 20); do
+  for _ in $(seq 60); do
     "$@" <<<"$input" >/dev/null 2>"$scratch/retry" && return 0
     sleep 0.1
   done

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <future>
 #include <mutex>
@@ -235,6 +236,37 @@ TEST_F(StoreWriterTest, CloseClosesTheFileAndRefusesMoreJobs) {
   EXPECT_THROW(writer.submit([](Hdf5File&) {}), std::logic_error);
   // The file is closed, so it can be opened again.
   EXPECT_EQ(Hdf5File::open_read_only(file_path()).read_int64_attribute("/", "complete"), 1);
+}
+
+// A writer whose queue never runs empty (runs finish faster than they are
+// written) still closes the file for a moment about once a second: another
+// process (h5ls) gets in long before the last job. Before the reader window,
+// the file stayed open, and locked, until the queue ran dry.
+TEST_F(StoreWriterTest, AReaderGetsInWhileTheQueueNeverRunsEmpty) {
+  if (std::system("command -v h5ls >/dev/null 2>&1") != 0) GTEST_SKIP() << "no h5ls";
+  constexpr int kJobs = 40;  // 100 ms each: 4 s of writing, queued at once
+  std::atomic<int> done{0};
+  StoreWriter writer(Hdf5File::create(file_path()), kJobs + 1,
+                     StoreWriter::WhenIdle::kCloseForReaders);
+  for (int run = 0; run < kJobs; ++run) {
+    writer.submit([&done, run](Hdf5File& file) {
+      std::this_thread::sleep_for(100ms);
+      file.write_vector(run_path(run), std::vector<double>{1.0 * run});
+      ++done;
+    });
+  }
+  const std::string h5ls = "h5ls " + file_path().string() + " >/dev/null 2>&1";
+  int done_when_read = -1;
+  while (done.load() < kJobs) {
+    if (std::system(h5ls.c_str()) == 0) {
+      done_when_read = done.load();
+      break;
+    }
+    std::this_thread::sleep_for(50ms);
+  }
+  writer.close();
+  EXPECT_GE(done_when_read, 0) << "h5ls never opened the file while the writer had work";
+  EXPECT_LT(done_when_read, kJobs - 5) << "h5ls got in only at the end";
 }
 
 }  // namespace
