@@ -20,12 +20,11 @@
 #include "engine/store/results_verify.hpp"
 #include "engine/store/run_store.hpp"
 #include "kernels/blas_runtime.hpp"
+// GGK_GIT_DESCRIBE, written at build time (engine/CMakeLists.txt).
+#include "ggk_git_describe.hpp"
 
 #ifndef GGK_VERSION
 #define GGK_VERSION "unknown"
-#endif
-#ifndef GGK_GIT_DESCRIBE
-#define GGK_GIT_DESCRIBE "unknown"
 #endif
 
 namespace ggk::engine {
