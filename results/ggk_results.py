@@ -48,6 +48,27 @@ def summary_frame(path, task=None):
     return pd.DataFrame(read_summary(path, task))
 
 
+
+def run_group(f, task, run=None, needs=()):
+    """The group /<task>/run_NNN of an open file (the first stored run when `run`
+    is None) holding every member named in `needs`; exits with a message naming
+    the file, the group and the stored runs when there is none."""
+    path = f.filename
+    if task not in f:
+        raise SystemExit(f"{path}: no /{task} group (not a {task} results file)")
+    runs = sorted(name for name in f[task] if name.startswith("run_"))
+    if not runs:
+        raise SystemExit(f"{path}: no stored run")
+    name = f"run_{run:03d}" if run is not None else runs[0]
+    group = f[task].get(name)
+    missing = [n for n in needs if group is not None and n not in group]
+    if group is None or missing:
+        what = f"/{task}/{name}" + (f"/{missing[0]}" if missing else "")
+        raise SystemExit(f"{path}: {what} not found (runs: {', '.join(runs)}"
+                         + ("; files written before issue 11 lack it)" if missing else ")"))
+    return group
+
+
 def mean_ci(values):
     """Mean and half-width of the 95 % Student-t confidence interval over runs
     (NaNs dropped; the half-width is NaN for fewer than two values)."""

@@ -13,6 +13,7 @@ the job's, the same in every run. Writes arm_workspace.png.
 """
 
 import argparse
+import sys
 from pathlib import Path
 
 import h5py
@@ -23,19 +24,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib import patches  # noqa: E402
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from ggk_results import run_group  # noqa: E402
+
 
 def read_workspace(path, run):
     with h5py.File(path, "r") as f:
-        if "arm" not in f:
-            raise SystemExit(f"{path}: no /arm group (not an arm results file)")
-        runs = sorted(name for name in f["arm"] if name.startswith("run_"))
-        if not runs:
-            raise SystemExit(f"{path}: no stored run")
-        name = f"run_{run:03d}" if run is not None else runs[0]
-        group = f["arm"].get(name)
-        if group is None or "workspace" not in group:
-            raise SystemExit(f"{path}: /arm/{name}/workspace not found (runs: {', '.join(runs)}; "
-                             "files written before issue 11 lack it)")
+        group = run_group(f, "arm", run, needs=("workspace",))
         return {key: np.asarray(group["workspace"][key][()]) for key in group["workspace"]}
 
 

@@ -42,7 +42,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from ggk_results import (add_format_argument, curve, error_bars, facet_title, facets,  # noqa: E402
-                         legend_below, read_summary, save)
+                         legend_below, read_summary, run_group, save)
 
 FORMAT = "png"  # --format: the file type of every figure
 
@@ -56,14 +56,6 @@ REPO = Path(__file__).resolve().parent.parent
 
 
 # ---------------------------------------------------------------- reading ----
-
-def run_group(f, run_index):
-    name = f"khepera/run_{run_index:03d}"
-    if name not in f:
-        runs = sorted(n for n in f["khepera"] if n.startswith("run_"))
-        sys.exit(f"{name} not in the file (runs: {', '.join(runs)})")
-    return f[name]
-
 
 def text(value):
     """An HDF5 string attribute as str (h5py gives bytes or str by how it was stored)."""
@@ -147,7 +139,7 @@ def draw_loadings(ax, coords, loadings):
 
 
 def fig_graph(f, out, run_index, threshold, prefix):
-    run = run_group(f, run_index)
+    run = run_group(f, "khepera", run_index)
     prototypes = run["som/prototypes"][:]
     occupied = run["graph/occupied"][:] > 0
     coords, explained, loadings = pca_layout(prototypes, occupied)
@@ -187,7 +179,7 @@ def fig_policies(f, out, run_index, kernels, solver, prefix):
     # similar readings (the SOM's topology), and the regions of one action show as
     # patches. The bottom row colours the units by action in the PCA plane of
     # Fig. 4(b), to tie those patches to the regions of the graph.
-    run = run_group(f, run_index)
+    run = run_group(f, "khepera", run_index)
     grid = run["som/grid"][:].astype(int)
     prototypes = run["som/prototypes"][:]
     occupied = run["graph/occupied"][:] > 0
@@ -353,7 +345,7 @@ def step_actions(trajectory):
 
 
 def fig_trajectories(f, out, run_index, kernels, solver, arena, radius, test_max_steps, prefix):
-    run = run_group(f, run_index)
+    run = run_group(f, "khepera", run_index)
     fig = plt.figure(figsize=(13, 7.2), layout="constrained")
     spec = fig.add_gridspec(2, 2, height_ratios=(1, 0.05))
     axes = [fig.add_subplot(spec[0, c]) for c in range(2)]

@@ -15,6 +15,7 @@ the whole arena, and an inset of --zoom cm (default 16) around the robot.
 """
 
 import argparse
+import sys
 import math
 from pathlib import Path
 
@@ -26,19 +27,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib import patches  # noqa: E402
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from ggk_results import run_group  # noqa: E402
+
 
 def read_geometry(path, run):
     with h5py.File(path, "r") as f:
-        if "khepera" not in f:
-            raise SystemExit(f"{path}: no /khepera group (not a Khepera results file)")
-        runs = sorted(name for name in f["khepera"] if name.startswith("run_"))
-        if not runs:
-            raise SystemExit(f"{path}: no stored run")
-        name = f"run_{run:03d}" if run is not None else runs[0]
-        group = f["khepera"].get(name)
-        if group is None or "arena" not in group or "robot" not in group:
-            raise SystemExit(f"{path}: /khepera/{name}/arena not found (runs: {', '.join(runs)}; "
-                             "files written before issue 11 lack it)")
+        group = run_group(f, "khepera", run, needs=("arena", "robot"))
         g = {f"arena/{k}": np.asarray(group["arena"][k][()]) for k in group["arena"]}
         g.update({f"robot/{k}": np.asarray(group["robot"][k][()]) for k in group["robot"]})
         return g
