@@ -11,6 +11,12 @@
 // with 50, 200 and 800 series of 100 steps (the job's 200 x 100 is 20,000), the
 // 24 x 29 SOM, its 30 epochs and the 10 test episodes as given; sweep: both
 // bases at 60 kernels, BRM.
+// BM_MazeRun/side:{250,500,1000}: one run of an open side x side maze (no walls,
+// goal in a corner), 20 series of 1000 random steps, 4 GGK kernels, a 1-step
+// test: the per-state work (graph, nearest visited state of every unvisited cell
+// by a k-d tree, kernel tables) against states; before the k-d tree the nearest
+// search was quadratic (1500 x 1500: > 300 s). Replaces a timing assertion that
+// MazeProtocol.ALargeMapRuns once held.
 //
 // compute_run() runs in a oneTBB arena of 1 thread (run with
 // OPENBLAS_NUM_THREADS=1), so that the slope is the algorithm's, not the
@@ -90,6 +96,32 @@ BENCHMARK(BM_KheperaRun)
     ->Arg(5000)
     ->Arg(20000)
     ->Arg(80000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MeasureProcessCPUTime()
+    ->Iterations(1);
+
+void BM_MazeRun(benchmark::State& state) {
+  const auto side = static_cast<std::size_t>(state.range(0));
+  std::string map(side * (side + 1), '.');
+  for (std::size_t r = 0; r < side; ++r) map[r * (side + 1) + side] = '\n';
+  map[0] = 'G';
+  const std::string text =
+      "name = \"open\"\ntask = \"maze\"\nruns = 1\nseed = 3\n"
+      "[sweep]\nbasis = [\"ggk\"]\nkernels = [4]\nsigma = [10.0]\n"
+      "[maze]\nseries = 20\nsteps_per_series = 1000\ntest_max_steps = 1\nmap = \"\"\"\n" +
+      map + "\"\"\"\n";
+  engine::JobLoadOptions options;
+  options.check_output = false;
+  const engine::JobSpec job = engine::parse_job(text, "open.toml", engine::task_tables(), options);
+  state.counters["states"] = static_cast<double>(side * side);
+  run_once(state, job);
+}
+BENCHMARK(BM_MazeRun)
+    ->ArgName("side")
+    ->Arg(250)
+    ->Arg(500)
+    ->Arg(1000)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MeasureProcessCPUTime()

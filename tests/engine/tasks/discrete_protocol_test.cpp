@@ -1,11 +1,11 @@
 // nearest_visited_states: the k-d tree search gives exactly what the scan it
 // replaced gave (the reference below, kept verbatim): the same nearest state,
-// ties included, and bit-identical distances. And the maze protocol's cost
-// grows about linearly with the states, not with their square.
+// ties included, and bit-identical distances. And a 500 x 500 maze runs (its
+// cost against states is measured in bench/cost_growth_benchmark.cpp,
+// BM_MazeRun; no timing assertion here).
 
 #include "engine/tasks/discrete_protocol.hpp"
 
-#include <chrono>
 #include <cstdint>
 #include <limits>
 #include <random>
@@ -126,7 +126,7 @@ TEST(NearestVisitedStates, NoVisitedStateGivesStateZeroAtInfiniteDistance) {
 
 // A 500 x 500 open room (about 250,000 states) with about 10,000 visited: the
 // scan took about a minute here, the k-d tree a fraction of a second.
-TEST(MazeProtocol, ALargeMapRunsInTimeLinearInItsStates) {
+TEST(MazeProtocol, ALargeMapRuns) {
   const int side = 500;
   std::string map(static_cast<std::size_t>(side) * (side + 1), '.');
   for (int r = 0; r < side; ++r) {
@@ -142,14 +142,11 @@ TEST(MazeProtocol, ALargeMapRunsInTimeLinearInItsStates) {
   options.check_output = false;
   const JobSpec job = parse_job(text, "large.toml", task_tables(), options);
   const std::vector<SweepPoint> points = expand_sweep(job);
-  const auto started = std::chrono::steady_clock::now();
   const RunRecord record = run_maze(task_config_as<sims::maze::MazeConfig>(job), job, 0, points);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   ASSERT_EQ(record.fits.size(), 1U);
   EXPECT_TRUE(record.fits[0].status == "converged" || record.fits[0].status == "max_iterations")
       << record.fits[0].status << ": " << record.fits[0].message;
-  EXPECT_LT(seconds, 10.0) << "one fit on a " << side << " x " << side << " map";
+  EXPECT_EQ(record.node_states.rows(), side * side);
 }
 
 }  // namespace
