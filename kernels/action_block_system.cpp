@@ -1,5 +1,6 @@
 #include "kernels/action_block_system.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "kernels/blas_runtime.hpp"
@@ -57,17 +58,22 @@ ActionBlockSystem::ActionBlockSystem(const SparseRowMatrix& features, bool copy_
   start_blocks_.reserve(by_action.size());
   for (std::int32_t a = 0; a < num_actions; ++a) {
     const std::vector<std::int32_t>& rows = by_action[static_cast<std::size_t>(a)];
-    const Eigen::MatrixXd u = gather(rows, false, a);
+    const auto u = gather(rows, false, a, scratch_.u);
     Eigen::MatrixXd lower = Eigen::MatrixXd::Zero(p_, p_);
     lower.selfadjointView<Eigen::Lower>().rankUpdate(u.transpose());
     start_blocks_.emplace_back(lower.selfadjointView<Eigen::Lower>());
-    start_rhs_.segment(a * p_, p_).noalias() = u.transpose() * weighted_rewards(rows);
+    start_rhs_.segment(a * p_, p_).noalias() =
+        u.transpose() * weighted_rewards(rows, scratch_.rewards);
   }
 }
 
-Eigen::MatrixXd ActionBlockSystem::gather(const std::vector<std::int32_t>& rows, bool next_state,
-                                          std::int32_t action) const {
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows.size()), p_);
+Eigen::Map<Eigen::MatrixXd> ActionBlockSystem::gather(const std::vector<std::int32_t>& rows,
+                                                      bool next_state, std::int32_t action,
+                                                      std::vector<double>& buffer) const {
+  const auto size = rows.size() * static_cast<std::size_t>(p_);
+  if (buffer.size() < size) buffer.resize(size);
+  std::fill(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(size), 0.0);
+  Eigen::Map<Eigen::MatrixXd> out(buffer.data(), static_cast<Eigen::Index>(rows.size()), p_);
   const Eigen::Index offset = copy_rows_ ? 0 : action * p_;
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const auto i = static_cast<std::size_t>(rows[r]);
@@ -81,8 +87,10 @@ Eigen::MatrixXd ActionBlockSystem::gather(const std::vector<std::int32_t>& rows,
   return out;
 }
 
-Eigen::VectorXd ActionBlockSystem::weighted_rewards(const std::vector<std::int32_t>& rows) const {
-  Eigen::VectorXd out(static_cast<Eigen::Index>(rows.size()));
+Eigen::Map<Eigen::VectorXd> ActionBlockSystem::weighted_rewards(
+    const std::vector<std::int32_t>& rows, std::vector<double>& buffer) const {
+  if (buffer.size() < rows.size()) buffer.resize(rows.size());
+  Eigen::Map<Eigen::VectorXd> out(buffer.data(), static_cast<Eigen::Index>(rows.size()));
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const auto i = static_cast<std::size_t>(rows[r]);
     out(static_cast<Eigen::Index>(r)) = sqrt_weights_[i] * samples_.rewards[i];
@@ -113,15 +121,15 @@ void ActionBlockSystem::reset(PolicyBlocks& blocks) const {
 }
 
 void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>& groups,
-                                   double sign, PolicyBlocks& blocks) const {
+                                   double sign, PolicyBlocks& blocks, Scratch& scratch) const {
   const auto m = static_cast<std::size_t>(num_actions_);
   const bool brm = solver_ == LspiSolver::brm;
   for (std::size_t g = 0; g < groups.size(); ++g) {
     const std::vector<std::int32_t>& rows = groups[g];
     if (rows.empty()) continue;
     const auto x = static_cast<std::int32_t>(g / m), y = static_cast<std::int32_t>(g % m);
-    const Eigen::MatrixXd u = gather(rows, false, x);
-    const Eigen::MatrixXd v = gather(rows, true, y);
+    const auto u = gather(rows, false, x, scratch.u);
+    const auto v = gather(rows, true, y, scratch.v);
     blocks.group_sizes[g] +=
         static_cast<std::int64_t>(sign) * static_cast<std::int64_t>(rows.size());
     if (blocks.group_sizes[g] == 0) {
@@ -135,7 +143,7 @@ void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>&
     blocks.next[static_cast<std::size_t>(y)].selfadjointView<Eigen::Lower>().rankUpdate(
         v.transpose(), sign * gamma_ * gamma_);
     blocks.rhs.segment(y * p_, p_).noalias() -=
-        (sign * gamma_) * (v.transpose() * weighted_rewards(rows));
+        (sign * gamma_) * (v.transpose() * weighted_rewards(rows, scratch.rewards));
   }
   if (!brm) return;
   // E_y is an empty sum once no group (x, y) holds a sample.
@@ -178,8 +186,9 @@ void ActionBlockSystem::compose(const PolicyBlocks& blocks, Eigen::MatrixXd& a,
 void ActionBlockSystem::assemble(const std::vector<std::int32_t>& policy, Eigen::MatrixXd& a,
                                  Eigen::VectorXd& b) const {
   PolicyBlocks blocks;
+  Scratch scratch;
   reset(blocks);
-  accumulate(full_groups(policy), 1.0, blocks);
+  accumulate(full_groups(policy), 1.0, blocks, scratch);
   compose(blocks, a, b);
 }
 
@@ -198,7 +207,7 @@ std::int64_t ActionBlockSystem::update(const std::vector<std::int32_t>& policy, 
   last_rebuilt_ = bootstrap_.empty() || 2 * changed >= live_samples_;
   if (last_rebuilt_) {
     reset(cached_);
-    accumulate(full_groups(policy), 1.0, cached_);
+    accumulate(full_groups(policy), 1.0, cached_, scratch_);
     bootstrap_.assign(n, -1);
     for (std::size_t i = 0; i < n; ++i) {
       if (!samples_.terminals[i]) {
@@ -219,8 +228,8 @@ std::int64_t ActionBlockSystem::update(const std::vector<std::int32_t>& policy, 
     added[x * m + static_cast<std::size_t>(next)].push_back(static_cast<std::int32_t>(i));
     bootstrap_[i] = next;
   }
-  accumulate(removed, -1.0, cached_);
-  accumulate(added, 1.0, cached_);
+  accumulate(removed, -1.0, cached_, scratch_);
+  accumulate(added, 1.0, cached_, scratch_);
   compose(cached_, a, b);
   return changed;
 }

@@ -83,22 +83,30 @@ class ActionBlockSystem {
     std::vector<std::int64_t> group_sizes;
   };
 
+  // Buffers of the gathered rows, reused from group to group and call to call (a
+  // fresh matrix per group costs page faults and a zero fill of new pages).
+  struct Scratch {
+    std::vector<double> u, v, rewards;
+  };
+
   void reset(PolicyBlocks& blocks) const;
   // Adds (sign +1) or removes (sign -1) the samples `groups[x * m + y]` (each in
   // sample order) with bootstrap action y to / from the blocks.
   void accumulate(const std::vector<std::vector<std::int32_t>>& groups, double sign,
-                  PolicyBlocks& blocks) const;
+                  PolicyBlocks& blocks, Scratch& scratch) const;
   void compose(const PolicyBlocks& blocks, Eigen::MatrixXd& a, Eigen::VectorXd& b) const;
   // Non-terminal samples grouped by (a_i, b_i), each group in sample order.
   std::vector<std::vector<std::int32_t>> full_groups(const std::vector<std::int32_t>& policy) const;
 
-  // Row r of the result is sqrt(w_i) kappa(s, action) for sample i = rows[r], s its
-  // start (next_state = false) or successor state.
-  Eigen::MatrixXd gather(const std::vector<std::int32_t>& rows, bool next_state,
-                         std::int32_t action) const;
+  // Row r of the result (a rows.size() x p view of `buffer`, grown as needed) is
+  // sqrt(w_i) kappa(s, action) for sample i = rows[r], s its start (next_state =
+  // false) or successor state.
+  Eigen::Map<Eigen::MatrixXd> gather(const std::vector<std::int32_t>& rows, bool next_state,
+                                     std::int32_t action, std::vector<double>& buffer) const;
 
-  // sqrt(w_i) r_i for sample i = rows[r].
-  Eigen::VectorXd weighted_rewards(const std::vector<std::int32_t>& rows) const;
+  // sqrt(w_i) r_i for sample i = rows[r] (a view of `buffer`).
+  Eigen::Map<Eigen::VectorXd> weighted_rewards(const std::vector<std::int32_t>& rows,
+                                               std::vector<double>& buffer) const;
 
   ActionBlockSystem(const SparseRowMatrix& features, bool copy_rows, std::int32_t num_actions,
                     const SampleBatch& samples, LspiSolver solver, double gamma);
@@ -120,6 +128,7 @@ class ActionBlockSystem {
   PolicyBlocks cached_;
   std::vector<std::int32_t> bootstrap_;
   bool last_rebuilt_ = false;
+  Scratch scratch_;  // of `update`
 };
 
 }  // namespace ggk::kernels

@@ -49,13 +49,44 @@ namespace {
 // lets the symbolic analysis be reused. Other exact zeros are left out.
 enum class Triangle { lower, full };
 
-SparseColMatrix compress_system(const Eigen::MatrixXd& dense, Triangle triangle, double ridge) {
+bool kept(const Eigen::MatrixXd& dense, Eigen::Index row, Eigen::Index col) {
+  return dense(row, col) != 0.0 || row == col;
+}
+
+// Writes dense's values into `a` when `a` already has the pattern compress_system
+// would give it (the usual case from one policy iteration to the next); false,
+// with `a` partly overwritten, when the pattern differs.
+bool refill_system(const Eigen::MatrixXd& dense, Triangle triangle, double ridge,
+                   SparseColMatrix& a) {
   const Eigen::Index k = dense.cols();
-  SparseColMatrix a(k, k);
+  if (a.rows() != k || a.cols() != k || !a.isCompressed()) return false;
+  const auto* outer = a.outerIndexPtr();
+  const auto* inner = a.innerIndexPtr();
+  double* values = a.valuePtr();
+  for (Eigen::Index col = 0; col < k; ++col) {
+    auto e = outer[col];
+    const auto end = outer[col + 1];
+    for (Eigen::Index row = triangle == Triangle::lower ? col : 0; row < k; ++row) {
+      if (!kept(dense, row, col)) continue;
+      if (e == end || inner[e] != row) return false;
+      values[e++] = row == col ? dense(row, col) + ridge : dense(row, col);
+    }
+    if (e != end) return false;
+  }
+  return true;
+}
+
+// Sets `a` to the compressed system, reusing its storage (no fresh pages, and
+// the pattern check of the solver's analysis reuse costs one pass less).
+void compress_system(const Eigen::MatrixXd& dense, Triangle triangle, double ridge,
+                     SparseColMatrix& a) {
+  if (refill_system(dense, triangle, ridge, a)) return;
+  const Eigen::Index k = dense.cols();
+  a.resize(k, k);
   std::int64_t nnz = 0;
   for (Eigen::Index col = 0; col < k; ++col) {
     for (Eigen::Index row = triangle == Triangle::lower ? col : 0; row < k; ++row) {
-      nnz += (dense(row, col) != 0.0 || row == col) ? 1 : 0;
+      nnz += kept(dense, row, col) ? 1 : 0;
     }
   }
   a.reserve(nnz);
@@ -70,7 +101,6 @@ SparseColMatrix compress_system(const Eigen::MatrixXd& dense, Triangle triangle,
     }
   }
   a.finalize();
-  return a;
 }
 
 void check_options(std::int32_t num_actions, const LspiOptions& options) {
@@ -259,11 +289,13 @@ LspiResult iterate_policies(ActionBlockSystem& system, std::size_t num_states,
   LspiResult result;
   std::vector<std::int32_t> policy(num_states, 0);  // greedy for w = 0
   Eigen::MatrixXd dense_a;
+  // The system being solved and the last successful one (result.a on return);
+  // swapped after each success so both keep their storage.
+  SparseColMatrix a, last_a;
   for (std::int32_t iteration = 1; iteration <= options.max_iterations; ++iteration) {
     Eigen::VectorXd b;
     system.update(policy, dense_a, b);
-    SparseColMatrix a =
-        compress_system(dense_a, brm ? Triangle::lower : Triangle::full, options.ridge);
+    compress_system(dense_a, brm ? Triangle::lower : Triangle::full, options.ridge, a);
 
     Eigen::VectorXd w;
     const SolveReport report = brm ? symmetric.solve(a, b, w) : nonsymmetric.solve(a, b, w);
@@ -271,6 +303,7 @@ LspiResult iterate_policies(ActionBlockSystem& system, std::size_t num_states,
       result.status = LspiStatus::solver_failed;
       result.message = "policy evaluation " + std::to_string(iteration) + " (" +
                        to_string(options.solver) + "): " + report.message;
+      result.a = std::move(last_a);
       return result;
     }
 
@@ -286,7 +319,7 @@ LspiResult iterate_policies(ActionBlockSystem& system, std::size_t num_states,
     if (options.keep_iterates) result.iterates.push_back(w);
     result.weights = std::move(w);
     result.policy = improved;
-    result.a = std::move(a);
+    a.swap(last_a);
     result.b = std::move(b);
     policy = std::move(improved);
     const bool stop = options.stopping == LspiStopping::policy_unchanged
@@ -294,10 +327,12 @@ LspiResult iterate_policies(ActionBlockSystem& system, std::size_t num_states,
                           : weight_change <= options.weight_tolerance;
     if (stop) {
       result.status = LspiStatus::converged;
+      result.a = std::move(last_a);
       return result;
     }
   }
   result.status = LspiStatus::max_iterations;
+  result.a = std::move(last_a);
   return result;
 }
 

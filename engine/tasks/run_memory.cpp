@@ -68,6 +68,10 @@ double kernel_and_feature_bytes(double states, double kernels, double actions) {
   return std::max(building, tables) + states * actions * kDouble;  // + row pointers
 }
 
+double kernel_table_bytes(double states, double kernels) {
+  return states * kernels * kSparseEntry + (states + 1.0) * 4.0;
+}
+
 double lspi_bytes(double states, double kernels, double actions, double samples) {
   const double k = actions * kernels;  // basis functions
   // ActionBlockSystem: D_a (m blocks of p x p), the dense A (k x k), E_b (BRM),

@@ -60,6 +60,11 @@ std::string format_bytes(double bytes);
 // at full density: a Gaussian kernel is zero only where it underflows.
 double kernel_and_feature_bytes(double states, double kernels, double actions);
 
+// A state-kernel table built in place (kernels/gaussian_kernels.cpp): compressed
+// arrays sized for every entry (kept at that size when entries are dropped) and
+// the row pointers. Also a table of a table's first columns (khepera_task.cpp).
+double kernel_table_bytes(double states, double kernels);
+
 // A fit's LSPI: the dense k x k system (k = m p), its compressed copies (the
 // current and the last iteration's), the sparse factorisation (dense in the worst
 // case), the per-action sample blocks, and the policy and Q vectors over the

@@ -62,6 +62,12 @@ Walks random_walks(const khepera::Khepera& robot, kernels::RandomStream& random)
   return walks;
 }
 
+// The kernel gap's sum over the readings per centre (in centre order) for one width.
+struct SharedGap {
+  double sigma = 0.0;
+  std::vector<double> per_center;
+};
+
 // Everything the fits of a run share.
 struct RunContext {
   const khepera::Khepera* robot;
@@ -80,17 +86,21 @@ struct RunContext {
   double edges = 0.0;
   double median_degree = 0.0;
   double geodesic_stretch = 0.0;
+  // The kernel gap's per-centre sums, per width (formed before the fits start).
+  std::vector<SharedGap> kernel_gaps;
 };
 
 // kernel_gap of a fit: the mean over the walks' readings and the fit's centres of
 // |K_GGK - K_OGK| at the fit's width (untruncated), GGK in the continuous form
 // the fit's kernel table uses.
-double fit_kernel_gap(const RunContext& ctx, std::span<const std::int32_t> centers, double sigma) {
+// The kernel gap's sum over the readings for each of `centers` (one term per centre).
+std::vector<double> kernel_gap_terms(const RunContext& ctx, std::span<const std::int32_t> centers,
+                                     double sigma) {
   const kernels::RowMatrixXd& readings = ctx.walks->readings;
   const auto n = static_cast<std::size_t>(readings.rows());
-  std::vector<double> geodesic(n), euclidean(n);
-  double sum = 0.0;
-  for (std::size_t j = 0; j < centers.size(); ++j) {
+  std::vector<double> terms(centers.size());
+  tbb::parallel_for(std::size_t{0}, centers.size(), [&](std::size_t j) {
+    std::vector<double> geodesic(n), euclidean(n);
     const auto center = ctx.som->prototypes().row(centers[j]);
     for (std::size_t i = 0; i < n; ++i) {
       const auto row = static_cast<Eigen::Index>(i);
@@ -98,10 +108,37 @@ double fit_kernel_gap(const RunContext& ctx, std::span<const std::int32_t> cente
                     ctx.center_distances(static_cast<Eigen::Index>(j), ctx.state_units.units[i]);
       euclidean[i] = (readings.row(row) - center).norm();
     }
-    sum += kernels::kernel_gap_sum(geodesic, euclidean, sigma);
+    terms[j] = kernels::kernel_gap_sum(geodesic, euclidean, sigma);
+  });
+  return terms;
+}
+
+// The mean of the first p terms over the readings (summed in centre order).
+double fit_kernel_gap(const RunContext& ctx, std::int32_t p, double sigma) {
+  const SharedGap* gap = nullptr;
+  for (const SharedGap& g : ctx.kernel_gaps) {
+    if (g.sigma == sigma) gap = &g;
   }
-  const double pairs = static_cast<double>(n) * static_cast<double>(centers.size());
+  double sum = 0.0;
+  for (std::int32_t j = 0; j < p; ++j) sum += gap->per_center[static_cast<std::size_t>(j)];
+  const double pairs = static_cast<double>(ctx.walks->readings.rows()) * static_cast<double>(p);
   return pairs > 0.0 ? sum / pairs : kNaN;
+}
+
+// The state kernels of every reading of the walks for the first p centres.
+kernels::SparseRowMatrix state_kernel_table(const RunContext& ctx, KernelType basis, double sigma,
+                                            std::int32_t p) {
+  const double truncation = ctx.job->basis.truncation;
+  if (basis == KernelType::ggk) {
+    return kernels::continuous_geodesic_gaussian_kernels(
+        ctx.state_units.units, ctx.state_units.distances, ctx.center_distances.topRows(p), sigma,
+        truncation);
+  }
+  kernels::RowMatrixXd center_vectors(p, khepera::kNumSensors);
+  for (std::int32_t j = 0; j < p; ++j) {
+    center_vectors.row(j) = ctx.som->prototypes().row(ctx.centers[static_cast<std::size_t>(j)]);
+  }
+  return kernels::ordinary_gaussian_kernels(ctx.walks->readings, center_vectors, sigma, truncation);
 }
 
 // K(s, c_j) of a fit for one reading, with the same arithmetic as the batch
@@ -239,7 +276,10 @@ EpisodeTest test_episodes(const RunContext& ctx, const SweepPoint& point,
   return test;
 }
 
-FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
+// state_kernels: the point's table (state_kernel_table), read only when the point
+// is valid (no more kernels than graph nodes).
+FitRecord fit_point(const RunContext& ctx, const SweepPoint& point,
+                    const kernels::SparseRowMatrix& state_kernels) {
   const auto started = std::chrono::steady_clock::now();
   const khepera::Khepera& robot = *ctx.robot;
   const std::int32_t m = robot.num_actions();
@@ -267,24 +307,8 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
     return fit;
   }
   fit.centers.assign(ctx.centers.begin(), ctx.centers.begin() + point.kernels);
-  kernel_gap = fit_kernel_gap(ctx, fit.centers, point.sigma);
-  const double truncation = ctx.job->basis.truncation;
+  kernel_gap = fit_kernel_gap(ctx, point.kernels, point.sigma);
 
-  // State kernels of every reading of the walks (initialised in place: Eigen's
-  // sparse assignment would copy the table).
-  const kernels::SparseRowMatrix state_kernels = [&] {
-    if (point.basis == KernelType::ggk) {
-      return kernels::continuous_geodesic_gaussian_kernels(
-          ctx.state_units.units, ctx.state_units.distances,
-          ctx.center_distances.topRows(point.kernels), point.sigma, truncation);
-    }
-    kernels::RowMatrixXd center_vectors(point.kernels, khepera::kNumSensors);
-    for (std::int32_t j = 0; j < point.kernels; ++j) {
-      center_vectors.row(j) = ctx.som->prototypes().row(fit.centers[static_cast<std::size_t>(j)]);
-    }
-    return kernels::ordinary_gaussian_kernels(ctx.walks->readings, center_vectors, point.sigma,
-                                              truncation);
-  }();
   // The copy scheme's table is never formed: fit_lspi_copy_basis reads the state
   // kernels (the same result bit for bit).
   fit.lspi = ctx.job->basis.scheme == kernels::BasisScheme::shift
@@ -335,6 +359,56 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   fit.fit_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return fit;
+}
+
+// The fits of a run. The fits of one (basis, width, kernel count) differ only in
+// the solver: they share one state-kernel table (built once, freed when they
+// are done, so no more tables are alive than before). The kernel gap's
+// per-centre sums are formed first, once per width, for the largest valid count.
+std::vector<FitRecord> fit_points(RunContext& ctx, std::span<const SweepPoint> points) {
+  for (const SweepPoint& point : points) {
+    if (point.kernels > ctx.graph_nodes) continue;
+    const auto kernels = static_cast<std::size_t>(point.kernels);
+    bool found = false;
+    for (SharedGap& g : ctx.kernel_gaps) {
+      if (g.sigma == point.sigma) {
+        g.per_center.resize(std::max(g.per_center.size(), kernels));
+        found = true;
+      }
+    }
+    if (!found) ctx.kernel_gaps.push_back({point.sigma, std::vector<double>(kernels)});
+  }
+  for (SharedGap& g : ctx.kernel_gaps) {
+    g.per_center = kernel_gap_terms(
+        ctx, std::span<const std::int32_t>(ctx.centers).first(g.per_center.size()), g.sigma);
+  }
+  std::vector<std::vector<std::size_t>> groups;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    auto same = [&](const std::vector<std::size_t>& group) {
+      const SweepPoint& q = points[group.front()];
+      return q.basis == points[i].basis && q.sigma == points[i].sigma &&
+             q.kernels == points[i].kernels;
+    };
+    const auto it = std::find_if(groups.begin(), groups.end(), same);
+    if (it == groups.end()) {
+      groups.push_back({i});
+    } else {
+      it->push_back(i);
+    }
+  }
+  std::vector<FitRecord> fits(points.size());
+  tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
+    const std::vector<std::size_t>& group = groups[g];
+    const SweepPoint& first = points[group.front()];
+    const kernels::SparseRowMatrix table =
+        first.kernels > ctx.graph_nodes
+            ? kernels::SparseRowMatrix()
+            : state_kernel_table(ctx, first.basis, first.sigma, first.kernels);
+    tbb::parallel_for(std::size_t{0}, group.size(), [&](std::size_t f) {
+      fits[group[f]] = fit_point(ctx, points[group[f]], table);
+    });
+  });
+  return fits;
 }
 
 // The arena, the robot and its sensors' rays at the start pose, for Fig. 4(a)
@@ -507,9 +581,7 @@ RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::
         batch.actions, batch.next_states);
   }
 
-  record.fits.resize(points.size());
-  tbb::parallel_for(std::size_t{0}, points.size(),
-                    [&](std::size_t i) { record.fits[i] = fit_point(ctx, points[i]); });
+  record.fits = fit_points(ctx, points);
   return record;
 }
 
@@ -552,11 +624,20 @@ RunMemoryEstimate estimate_khepera_run(const KheperaTaskConfig& config, const Jo
   estimate.add("the geodesic distances from " + count_text(max_kernels) + " centres to " +
                    count_text(units) + " units",
                max_kernels * units * 8.0);
-  estimate.add_per_fit("the kernel and feature tables of a fit with " + count_text(max_kernels) +
-                           " kernels (" + count_text(readings) + " readings x " + count_text(m) +
-                           " actions)",
-                       // + the kernel gap's two distance rows (a double per reading each)
-                       kernel_and_feature_bytes(readings, max_kernels, m) + readings * 16.0);
+  // The kernel gap's two distance rows (a double per reading each) per centre in
+  // flight while its per-centre sums are formed (two: one per thread of -j 2).
+  estimate.add("the kernel gap's distance rows (" + count_text(readings) + " readings)",
+               2.0 * readings * 16.0);
+  // A fit's state kernels, shared with the fits of the other solvers at the
+  // same basis, width and kernel count; the shift scheme forms its m-row
+  // feature table from them.
+  estimate.add_per_fit(
+      shift ? "the kernel and feature tables of a fit with " + count_text(max_kernels) +
+                  " kernels (" + count_text(readings) + " readings x " + count_text(m) + " actions)"
+            : "the state kernels of a fit with " + count_text(max_kernels) + " kernels (" +
+                  count_text(readings) + " readings; the copy scheme forms no feature table)",
+      shift ? kernel_and_feature_bytes(readings, max_kernels, m)
+            : kernel_table_bytes(readings, max_kernels));
   estimate.add_per_fit("the LSPI system of a fit with " + count_text(m) + " x " +
                            count_text(max_kernels) + " basis functions",
                        lspi_bytes(readings, max_kernels, m, n));

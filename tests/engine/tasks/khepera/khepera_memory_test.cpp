@@ -96,6 +96,23 @@ TEST(KheperaMemory, AFortyThousandSquareSomIsHuge) {
   EXPECT_TRUE(std::isfinite(estimate(k).peak(1)));
 }
 
+// The copy scheme forms no state-action feature table: a fit holds its state
+// kernels (a dense readings x p table of compressed entries at most, shared with
+// the fit of the other solver). The estimate counts that, never less, and not
+// the m-row feature table it no longer forms.
+TEST(KheperaMemory, CountsTheKernelTableTheCopySchemeAllocates) {
+  KheperaJob k;
+  k.kernels = "[5, 10]";
+  const RunMemoryEstimate e = estimate(k);
+  const double readings = 10.0 * (50.0 + 1.0);
+  const double table = readings * 10.0 * 12.0 + (readings + 1.0) * 4.0;  // entries, row pointers
+  const MemoryItem& fit = item_naming(e, "the state kernels of a fit with 10 kernels");
+  EXPECT_TRUE(fit.per_fit);
+  EXPECT_GE(fit.bytes, table);
+  // Not the copy basis' feature table (4 actions: 5 tables' worth with the kernels).
+  EXPECT_LT(fit.bytes, 2.0 * table);
+}
+
 TEST(KheperaMemory, CoversWhatARunRecordHolds) {
   const JobSpec job = parse(KheperaJob{});
   const RunMemoryEstimate e = find_task("khepera")->estimate_run_bytes(job);
