@@ -167,11 +167,12 @@ void copy_greedy_rows(const SparseRowMatrix& kernels, Eigen::Index row_step,
                       std::int32_t num_actions, const std::vector<double>& by_center,
                       std::vector<std::int32_t>& policy) {
   const std::int32_t m = kActions > 0 ? kActions : num_actions;
+  const auto p = static_cast<std::int64_t>(by_center.size()) / m;
   const auto* outer = kernels.outerIndexPtr();
   const auto* inner = kernels.innerIndexPtr();
   const double* values = kernels.valuePtr();
   std::vector<double> q_storage(static_cast<std::size_t>(m));
-  for (std::size_t s = 0; s < policy.size(); ++s) {
+  auto one_state = [&](std::size_t s) {
     const auto row = static_cast<Eigen::Index>(s) * row_step;
     // A fixed-size local array stays in registers; each lane sums in entry order.
     double q_fixed[kActions > 0 ? kActions : 1] = {};
@@ -187,7 +188,42 @@ void copy_greedy_rows(const SparseRowMatrix& kernels, Eigen::Index row_step,
       if (q[a] > q[best]) best = a;
     }
     policy[s] = best;
+  };
+  std::size_t s = 0;
+  if constexpr (kActions > 0) {
+    // Four states at a time where all four rows are dense (p entries: columns 0 ..
+    // p - 1 in order): four independent sums per action in flight instead of one
+    // chain of dependent additions; each sums the same products in the same order.
+    constexpr std::size_t kLanes = 4;
+    for (; s + kLanes <= policy.size(); s += kLanes) {
+      const double* v[kLanes];
+      bool dense = true;
+      for (std::size_t b = 0; b < kLanes; ++b) {
+        const auto row = static_cast<Eigen::Index>(s + b) * row_step;
+        dense = dense && outer[row + 1] - outer[row] == p;
+        v[b] = values + outer[row];
+      }
+      if (!dense) {
+        for (std::size_t b = 0; b < kLanes; ++b) one_state(s + b);
+        continue;
+      }
+      double q[kLanes][kActions] = {};
+      for (std::int64_t j = 0; j < p; ++j) {
+        const double* w = by_center.data() + j * kActions;
+        for (std::size_t b = 0; b < kLanes; ++b) {
+          for (std::int32_t a = 0; a < kActions; ++a) q[b][a] += v[b][j] * w[a];
+        }
+      }
+      for (std::size_t b = 0; b < kLanes; ++b) {
+        std::int32_t best = 0;
+        for (std::int32_t a = 1; a < kActions; ++a) {
+          if (q[b][a] > q[b][best]) best = a;
+        }
+        policy[s + b] = best;
+      }
+    }
   }
+  for (; s < policy.size(); ++s) one_state(s);
 }
 
 // The greedy policy of a copy basis from its state kernels: row s * row_step of
