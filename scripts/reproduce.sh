@@ -65,12 +65,14 @@ run jobs/arm-paper.toml results/arm-paper-lstdq-iterations.h5 --set lspi.evaluat
   --set 'sweep.solver=["lstdq"]' "$@"
 run jobs/arm-paper.toml results/arm-paper-cap100-iterations.h5 --set lspi.evaluate_iterations=true \
   --set lspi.max_iterations=100 "$@"
+run jobs/khepera-paper.toml results/khepera-paper-iterations.h5 --set lspi.evaluate_iterations=true "$@"
 $python results/plot_maze.py results/maze.h5 "$figures"
 $python results/plot_arm.py results/arm-paper.h5 "$figures" --kernels 128
 $python results/plot_khepera.py results/khepera-paper.h5 "$figures"
 $python results/plot_khepera.py results/khepera-turn30.h5 "$figures" --prefix khepera_turn30
 $python results/plot_khepera.py results/khepera-turn45.h5 "$figures" --prefix khepera_turn45
-for f in arm-paper-iterations arm-paper-lstdq-iterations arm-paper-cap100-iterations; do
+for f in arm-paper-iterations arm-paper-lstdq-iterations arm-paper-cap100-iterations \
+  khepera-paper-iterations; do
   $python results/plot_iterations.py results/$f.h5 "$figures"
 done
 for extra in results/plot_arm_workspace.py results/plot_khepera_arena.py; do
