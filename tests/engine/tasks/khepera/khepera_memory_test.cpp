@@ -24,6 +24,7 @@ struct KheperaJob {
   std::string kernels = "[5, 10]";
   std::string som = "rows = 4\ncols = 5";
   long long test_max_steps = 30;
+  std::string scheme;  // [basis] scheme; the default when empty
 };
 
 JobSpec parse(const KheperaJob& k) {
@@ -35,7 +36,8 @@ JobSpec parse(const KheperaJob& k) {
       "\ntest_max_steps = " + std::to_string(k.test_max_steps) +
       "\ntest_episodes = 2\n[khepera.som]\n" + k.som +
       "\n[khepera.arena]\nmin = [0.0, 0.0]\nmax = [40.0, 40.0]\n"
-      "start = { x = 20.0, y = 20.0, heading_deg = 0.0 }\n";
+      "start = { x = 20.0, y = 20.0, heading_deg = 0.0 }\n" +
+      (k.scheme.empty() ? "" : "[basis]\nscheme = \"" + k.scheme + "\"\n");
   JobLoadOptions options;
   options.check_output = false;
   return parse_job(text, "memory.toml", task_tables(), options);
@@ -103,6 +105,7 @@ TEST(KheperaMemory, AFortyThousandSquareSomIsHuge) {
 TEST(KheperaMemory, CountsTheKernelTableTheCopySchemeAllocates) {
   KheperaJob k;
   k.kernels = "[5, 10]";
+  k.scheme = "copy";
   const RunMemoryEstimate e = estimate(k);
   const double readings = 10.0 * (50.0 + 1.0);
   const double table = readings * 10.0 * 12.0 + (readings + 1.0) * 4.0;  // entries, row pointers
@@ -111,6 +114,9 @@ TEST(KheperaMemory, CountsTheKernelTableTheCopySchemeAllocates) {
   EXPECT_GE(fit.bytes, table);
   // Not the copy basis' feature table (4 actions: 5 tables' worth with the kernels).
   EXPECT_LT(fit.bytes, 2.0 * table);
+  // The shift scheme does form its feature table (m rows per reading).
+  k.scheme = "shift";
+  EXPECT_GE(item_naming(estimate(k), "the kernel and feature tables of a fit").bytes, 5.0 * table);
 }
 
 TEST(KheperaMemory, CoversWhatARunRecordHolds) {
