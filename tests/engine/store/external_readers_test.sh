@@ -140,37 +140,45 @@ pandas)
   check_tasks "$scratch/arm.h5" "$scratch/khepera.h5" || fail "arm and khepera files"
   ;;
 during_run)
-  # ~0.3 s a run at -j 1: the sweep lasts long enough to be read several times.
-  write_job "$scratch/job.toml" 60 400
-  "$GGK" run "$scratch/job.toml" -j 2 -q -o "$scratch/reference.h5" 2>/dev/null || fail "reference"
+  # The sweep must outlast several reads (a `ggk info` takes ~0.4 s, an h5py
+  # start-up ~0.5 s). How long a run takes depends on the machine and on ggk's
+  # speed, so a sweep that ended before it was read part-way is started again
+  # with four times the runs (60, 240, 960: at most a few tens of seconds).
   out=$scratch/r.h5
-  "$GGK" run "$scratch/job.toml" -j 1 -q -o "$out" 2>"$scratch/err" &
-  pid=$!
   seen_partial=0
-  for _ in $(seq 1200); do
-    kill -0 $pid 2>/dev/null || break
-    if [ -e "$out" ]; then
-      info=$("$GGK" info "$out" 2>&1) || fail "ggk info during the run: $info"
-      done_runs=$(sed -n 's/^runs: *\([0-9]*\) of 60 complete$/\1/p' <<<"$info")
-      [ -n "$done_runs" ] || fail "ggk info: $info"
-      if [ "$done_runs" -ge 1 ] && [ "$done_runs" -lt 60 ]; then
-        grep -q "fits (" <<<"$info" || fail "ggk info shows no rows of the runs done: $info"
-        # A reader that comes in the moment of a commit finds HDF5's lock and
-        # tries again, as a person would: between commits the file opens.
-        retry h5ls -r "$out" </dev/null || fail "h5ls during the run: $(cat "$scratch/retry")"
-        retry $python - "$out" <<'PY' || fail "h5py during the run: $(cat "$scratch/retry")"
+  for runs in 60 240 960; do
+    write_job "$scratch/job.toml" $runs 400
+    rm -f "$out" "$scratch/reference.h5"
+    "$GGK" run "$scratch/job.toml" -j 2 -q -o "$scratch/reference.h5" 2>/dev/null || fail "reference"
+    "$GGK" run "$scratch/job.toml" -j 1 -q -o "$out" 2>"$scratch/err" &
+    pid=$!
+    for _ in $(seq 6000); do
+      kill -0 $pid 2>/dev/null || break
+      if [ -e "$out" ]; then
+        info=$("$GGK" info "$out" 2>&1) || fail "ggk info during the run: $info"
+        done_runs=$(sed -n "s/^runs: *\([0-9]*\) of $runs complete\$/\1/p" <<<"$info")
+        [ -n "$done_runs" ] || fail "ggk info: $info"
+        if [ "$done_runs" -ge 1 ] && [ "$done_runs" -lt $runs ]; then
+          grep -q "fits (" <<<"$info" || fail "ggk info shows no rows of the runs done: $info"
+          # A reader that comes in the moment of a commit finds HDF5's lock and
+          # tries again, as a person would: between commits the file opens.
+          retry h5ls -r "$out" </dev/null || fail "h5ls during the run: $(cat "$scratch/retry")"
+          retry $python - "$out" <<'PY' || fail "h5py during the run: $(cat "$scratch/retry")"
 import sys, h5py
 with h5py.File(sys.argv[1], "r") as f:
     runs = [n for n in f["maze"] if n.startswith("run_") and f["maze"][n].attrs.get("complete") == 1]
     assert runs, list(f["maze"])
     assert len(f[f"maze/{runs[0]}/fit_metrics"][:]) == 4
 PY
-        seen_partial=$((seen_partial + 1))
+          seen_partial=$((seen_partial + 1))
+        fi
       fi
-    fi
-    sleep 0.2
+      sleep 0.1
+    done
+    wait $pid || fail "the run failed while read: $(cat "$scratch/err")"
+    [ "$seen_partial" -ge 1 ] && break
+    echo "a sweep of $runs runs ended before it was read part-way: again with more runs"
   done
-  wait $pid || fail "the run failed while read: $(cat "$scratch/err")"
   [ "$seen_partial" -ge 1 ] || fail "never saw the file part-way ($seen_partial)"
   "$GGK" diff "$scratch/reference.h5" "$out" >/dev/null || fail "results differ from the reference"
   "$GGK" verify "$out" >/dev/null || fail "damaged"
