@@ -116,7 +116,7 @@ overrides)
   write_job "$scratch/job.toml"
   "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.h5" --set runs=3 --set maze.series=12 \
     --set 'sweep.kernels=[4]' 2>/dev/null || fail "run with --set"
-  "$GGK" info "$scratch/r.h5" | grep -q "runs: *3 of 3 complete" || fail "--set runs=3 not applied"
+  "$GGK" info "$scratch/r.h5" | grep "runs: *3 of 3 complete" >/dev/null || fail "--set runs=3 not applied"
   /usr/bin/python3 - "$scratch/r.h5" <<'PY' || fail "overrides not recorded"
 import sys, tomllib, h5py
 with h5py.File(sys.argv[1], "r") as f:
@@ -157,7 +157,7 @@ with h5py.File(sys.argv[1], 'a') as f:
     assert f.attrs['layout'] == 2
     del f.attrs['layout']
 " "$scratch/r.h5"
-  "$GGK" info "$scratch/r.h5" | grep -q "runs: *2 of 2 complete" || fail "info of an old file"
+  "$GGK" info "$scratch/r.h5" | grep "runs: *2 of 2 complete" >/dev/null || fail "info of an old file"
   "$GGK" verify "$scratch/r.h5" >/dev/null || fail "verify of an old file"
   expect_error 2 "it has results layout 1 (written by an older ggk" \
     "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.h5" --resume
