@@ -4,27 +4,13 @@
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
-#include "bench/grid_graphs.hpp"
-#include "kernels/shortest_paths.hpp"
+#include "bench/geodesic_distances_case.hpp"
 
 namespace ggk::bench {
 namespace {
 
 void BM_GeodesicDistances(benchmark::State& state) {
-  const auto rows = static_cast<std::int32_t>(state.range(0));
-  const auto cols = static_cast<std::int32_t>(state.range(1));
-  const auto p = static_cast<std::int32_t>(state.range(2));
-  const auto threads = static_cast<int>(state.range(3));
-  const kernels::CsrGraph graph = grid_graph(rows, cols);
-  const std::vector<std::int32_t> sources = spread_sources(graph.num_nodes, p);
-  tbb::task_arena arena(threads);
-  for (auto _ : state) {
-    kernels::RowMatrixXd distances;
-    arena.execute([&] { distances = kernels::geodesic_distances(graph, sources); });
-    benchmark::DoNotOptimize(distances.data());
-  }
-  state.counters["settled/s"] = benchmark::Counter(static_cast<double>(graph.num_nodes) * p,
-                                                   benchmark::Counter::kIsIterationInvariantRate);
+  time_geodesic_distances(state, static_cast<int>(state.range(3)));
 }
 
 void grid_cases(benchmark::internal::Benchmark* b) {
