@@ -16,6 +16,7 @@
 
 #include "bench/grid_graphs.hpp"
 #include "kernels/action_block_system.hpp"
+#include "kernels/dense_solvers.hpp"
 #include "kernels/gaussian_kernels.hpp"
 #include "kernels/lspi.hpp"
 #include "kernels/random_stream.hpp"
@@ -54,11 +55,12 @@ GridProblem make_problem(std::int32_t num_centers) {
   return problem;
 }
 
-kernels::SparseRowMatrix make_features(const GridProblem& problem, double truncation) {
+kernels::SparseRowMatrix make_features(const GridProblem& problem, double truncation,
+                                       double sigma = kSigma) {
   const kernels::RowMatrixXd distances =
       kernels::geodesic_distances(problem.graph, problem.centers);
   const kernels::SparseRowMatrix state_kernels =
-      kernels::geodesic_gaussian_kernels(distances, kSigma, truncation);
+      kernels::geodesic_gaussian_kernels(distances, sigma, truncation);
   const kernels::EmpiricalTransitionModel model(
       problem.graph.num_nodes, kActions, problem.samples.states, problem.samples.actions,
       problem.samples.next_states, problem.samples.weights);
@@ -75,13 +77,15 @@ void BM_BuildFeatures(benchmark::State& state) {
 BENCHMARK(BM_BuildFeatures)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Named solver:brm / solver:lstdq; args: centres p (k = 4 p), truncation x 1e6.
-void BM_FitLspi(benchmark::State& state, kernels::LspiSolver solver) {
+void BM_FitLspi(benchmark::State& state, kernels::LspiSolver solver,
+                kernels::LinearAlgebra linear_algebra) {
   const GridProblem problem = make_problem(static_cast<std::int32_t>(state.range(0)));
   const kernels::SparseRowMatrix features =
       make_features(problem, static_cast<double>(state.range(1)) * 1e-6);
   kernels::LspiOptions options;
   options.solver = solver;
   options.ridge = 1e-6;
+  options.linear_algebra = linear_algebra;
   std::int64_t iterations = 0;
   for (auto _ : state) {
     const kernels::LspiResult result =
@@ -93,7 +97,57 @@ void BM_FitLspi(benchmark::State& state, kernels::LspiSolver solver) {
   state.counters["lspi_iterations"] = static_cast<double>(iterations);
   state.counters["feature_nnz/row"] =
       static_cast<double>(features.nonZeros()) / static_cast<double>(features.rows());
-  state.SetLabel(options.solver == kernels::LspiSolver::brm ? "brm" : "lstdq");
+  state.SetLabel(std::string(kernels::to_string(solver)) + " " +
+                 kernels::to_string(linear_algebra));
+}
+
+// One BRM or LSTD-Q system of the grid problem for a random policy, kernels
+// truncated at 1e-3, solved by each kind of linear algebra (the measurement behind
+// LinearAlgebra::automatic's density threshold, lspi.hpp). Named
+// solver:{brm,lstdq}/linear_algebra:{sparse,dense}; args: centres p, sigma x 10.
+// Counter density: the share of non-zeros among the entries the solver reads.
+void BM_SolveSystem(benchmark::State& state, kernels::LspiSolver solver,
+                    kernels::LinearAlgebra kind) {
+  const GridProblem problem = make_problem(static_cast<std::int32_t>(state.range(0)));
+  const kernels::SparseRowMatrix features =
+      make_features(problem, 1e-3, static_cast<double>(state.range(1)) / 10.0);
+  kernels::RandomStream rng(11, 0, 0);
+  std::vector<std::int32_t> policy(static_cast<std::size_t>(kSide * kSide));
+  for (std::int32_t& action : policy) {
+    action = static_cast<std::int32_t>(rng.uniform_index(kActions));
+  }
+  const bool brm = solver == kernels::LspiSolver::brm;
+  const kernels::ActionBlockSystem system(features, kActions, problem.samples, solver, 0.9);
+  Eigen::MatrixXd a;
+  Eigen::VectorXd b;
+  system.assemble(policy, a, b);
+  const double ridge = 1e-6;
+  Eigen::MatrixXd with_ridge = a;
+  with_ridge.diagonal().array() += ridge;
+  kernels::SparseColMatrix compressed =
+      brm ? kernels::SparseColMatrix(
+                with_ridge.triangularView<Eigen::Lower>().toDenseMatrix().sparseView())
+          : kernels::SparseColMatrix(with_ridge.sparseView());
+  compressed.makeCompressed();
+  const double read = brm ? static_cast<double>(a.rows()) * static_cast<double>(a.rows() + 1) / 2
+                          : static_cast<double>(a.size());
+  kernels::SymmetricSolver symmetric;
+  kernels::NonsymmetricSolver nonsymmetric;
+  kernels::DenseSymmetricSolver dense_symmetric;
+  kernels::DenseLuSolver dense_lu;
+  Eigen::VectorXd x;
+  for (auto _ : state) {
+    kernels::SolveReport report;
+    if (kind == kernels::LinearAlgebra::dense) {
+      report = brm ? dense_symmetric.solve(a, ridge, b, x) : dense_lu.solve(a, ridge, b, x);
+    } else {
+      report = brm ? symmetric.solve(compressed, b, x) : nonsymmetric.solve(compressed, b, x);
+    }
+    if (!report.ok) state.SkipWithError(report.message.c_str());
+    benchmark::DoNotOptimize(x.data());
+  }
+  state.counters["density"] = static_cast<double>(compressed.nonZeros()) / read;
+  state.counters["k"] = static_cast<double>(a.rows());
 }
 
 // Method: action blocks (ActionBlockSystem) or the Eigen sparse-product peer.
@@ -158,13 +212,31 @@ const bool kRegistered = [] {
   const std::pair<const char*, kernels::LspiSolver> solvers[] = {
       {"brm", kernels::LspiSolver::brm}, {"lstdq", kernels::LspiSolver::lstdq}};
   for (const auto& [name, solver] : solvers) {
-    benchmark::RegisterBenchmark((std::string("BM_FitLspi/solver:") + name).c_str(), BM_FitLspi,
-                                 solver)
-        ->ArgNames({"p", "truncation_e6"})
-        ->Args({100, 1000})
-        ->Args({200, 0})
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime();
+    for (const kernels::LinearAlgebra kind :
+         {kernels::LinearAlgebra::sparse, kernels::LinearAlgebra::dense}) {
+      benchmark::RegisterBenchmark(
+          (std::string("BM_FitLspi/solver:") + name + "/linear_algebra:" + kernels::to_string(kind))
+              .c_str(),
+          BM_FitLspi, solver, kind)
+          ->ArgNames({"p", "truncation_e6"})
+          ->Args({100, 1000})
+          ->Args({200, 0})
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
+  }
+  for (const auto& [name, solver] : solvers) {
+    for (const kernels::LinearAlgebra kind :
+         {kernels::LinearAlgebra::sparse, kernels::LinearAlgebra::dense}) {
+      benchmark::RegisterBenchmark((std::string("BM_SolveSystem/solver:") + name +
+                                    "/linear_algebra:" + kernels::to_string(kind))
+                                       .c_str(),
+                                   BM_SolveSystem, solver, kind)
+          ->ArgNames({"p", "sigma_x10"})
+          ->ArgsProduct({{100, 400}, {10, 20, 40, 80}})
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
   }
   const std::pair<const char*, AssembleMethod> methods[] = {
       {"action_blocks", AssembleMethod::action_blocks},

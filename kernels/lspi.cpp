@@ -6,6 +6,7 @@
 #include <string>
 
 #include "kernels/action_block_system.hpp"
+#include "kernels/dense_solvers.hpp"
 
 namespace ggk::kernels {
 
@@ -37,6 +38,18 @@ const char* to_string(LspiStopping stopping) {
       return "policy";
     case LspiStopping::weights_converged:
       return "weights";
+  }
+  return "unknown";
+}
+
+const char* to_string(LinearAlgebra kind) {
+  switch (kind) {
+    case LinearAlgebra::automatic:
+      return "auto";
+    case LinearAlgebra::sparse:
+      return "sparse";
+    case LinearAlgebra::dense:
+      return "dense";
   }
   return "unknown";
 }
@@ -101,6 +114,21 @@ void compress_system(const Eigen::MatrixXd& dense, Triangle triangle, double rid
     }
   }
   a.finalize();
+}
+
+// Whether `automatic` factorises this system densely: the share of non-zeros
+// among the entries the solver reads (the lower triangle for BRM, all for LSTD-Q;
+// the diagonal counts, as the ridge makes it structurally present).
+bool dense_enough(const Eigen::MatrixXd& dense, Triangle triangle) {
+  const Eigen::Index k = dense.cols();
+  std::int64_t nonzeros = 0, read = 0;
+  for (Eigen::Index col = 0; col < k; ++col) {
+    const Eigen::Index first = triangle == Triangle::lower ? col : 0;
+    read += k - first;
+    for (Eigen::Index row = first; row < k; ++row) nonzeros += kept(dense, row, col) ? 1 : 0;
+  }
+  return read > 0 &&
+         static_cast<double>(nonzeros) >= kDenseSystemDensity * static_cast<double>(read);
 }
 
 void check_options(std::int32_t num_actions, const LspiOptions& options) {
@@ -324,23 +352,44 @@ LspiResult iterate_policies(ActionBlockSystem& system, std::size_t num_states,
 
   LspiResult result;
   std::vector<std::int32_t> policy(num_states, 0);  // greedy for w = 0
-  Eigen::MatrixXd dense_a;
-  // The system being solved and the last successful one (result.a on return);
-  // swapped after each success so both keep their storage.
+  const Triangle triangle = brm ? Triangle::lower : Triangle::full;
+  DenseSymmetricSolver dense_symmetric(options.solver_settings);
+  DenseLuSolver dense_lu(options.solver_settings);
+  // The system being solved and the last successful one, dense or compressed;
+  // swapped after each success so both keep their storage. result.a is the last
+  // successful one compressed (from last_dense when it was solved densely).
+  Eigen::MatrixXd dense_a, last_dense;
   SparseColMatrix a, last_a;
+  bool last_was_dense = false;
+  auto finish = [&](LspiStatus status) {
+    result.status = status;
+    if (last_was_dense) {
+      compress_system(last_dense, triangle, options.ridge, result.a);
+    } else {
+      result.a = std::move(last_a);
+    }
+    return std::move(result);
+  };
   for (std::int32_t iteration = 1; iteration <= options.max_iterations; ++iteration) {
     Eigen::VectorXd b;
     system.update(policy, dense_a, b);
-    compress_system(dense_a, brm ? Triangle::lower : Triangle::full, options.ridge, a);
+    const bool dense =
+        options.linear_algebra == LinearAlgebra::dense ||
+        (options.linear_algebra == LinearAlgebra::automatic && dense_enough(dense_a, triangle));
 
     Eigen::VectorXd w;
-    const SolveReport report = brm ? symmetric.solve(a, b, w) : nonsymmetric.solve(a, b, w);
+    SolveReport report;
+    if (dense) {
+      report = brm ? dense_symmetric.solve(dense_a, options.ridge, b, w)
+                   : dense_lu.solve(dense_a, options.ridge, b, w);
+    } else {
+      compress_system(dense_a, triangle, options.ridge, a);
+      report = brm ? symmetric.solve(a, b, w) : nonsymmetric.solve(a, b, w);
+    }
     if (!report.ok) {
-      result.status = LspiStatus::solver_failed;
       result.message = "policy evaluation " + std::to_string(iteration) + " (" +
                        to_string(options.solver) + "): " + report.message;
-      result.a = std::move(last_a);
-      return result;
+      return finish(LspiStatus::solver_failed);
     }
 
     std::vector<std::int32_t> improved = greedy(w);
@@ -350,26 +399,25 @@ LspiResult iterate_policies(ActionBlockSystem& system, std::size_t num_states,
     }
     const double weight_change =
         result.weights.size() == 0 ? w.norm() : (w - result.weights).norm();
-    result.history.push_back(
-        {changes, weight_change, report.relative_residual, report.rcond, report.reused_analysis});
+    result.history.push_back({changes, weight_change, report.relative_residual, report.rcond,
+                              report.reused_analysis, dense});
     if (options.keep_iterates) result.iterates.push_back(w);
     result.weights = std::move(w);
     result.policy = improved;
-    a.swap(last_a);
+    if (dense) {
+      dense_a.swap(last_dense);
+    } else {
+      a.swap(last_a);
+    }
+    last_was_dense = dense;
     result.b = std::move(b);
     policy = std::move(improved);
     const bool stop = options.stopping == LspiStopping::policy_unchanged
                           ? changes == 0
                           : weight_change <= options.weight_tolerance;
-    if (stop) {
-      result.status = LspiStatus::converged;
-      result.a = std::move(last_a);
-      return result;
-    }
+    if (stop) return finish(LspiStatus::converged);
   }
-  result.status = LspiStatus::max_iterations;
-  result.a = std::move(last_a);
-  return result;
+  return finish(LspiStatus::max_iterations);
 }
 
 }  // namespace

@@ -6,11 +6,13 @@
 // Policy evaluation, for the current greedy policy pi (W = diag(sample weights),
 // phi'_i = phi(s'_i, pi(s'_i)), zero when sample i is terminal):
 //   BRM     psi_i = phi_i - gamma phi'_i;  (Psi^T W Psi + lambda I) w = Psi^T W r
-//           (symmetric; CHOLMOD)
-//   LSTD-Q  (Phi^T W (Phi - gamma Phi') + lambda I) w = Phi^T W r   (UMFPACK)
+//           (symmetric; Cholesky: CHOLMOD or LAPACK dpotrf)
+//   LSTD-Q  (Phi^T W (Phi - gamma Phi') + lambda I) w = Phi^T W r
+//           (LU: UMFPACK or LAPACK dgetrf; LinearAlgebra picks sparse or dense)
 // The features must be in action-block form (action_block_system.hpp: phi(s, a)
 // lives in columns [a p, (a + 1) p)), as the copy and shift schemes build them; A is
-// formed block by block with dense BLAS products, then compressed for the solver.
+// formed block by block with dense BLAS products, then factorised densely or
+// compressed for a sparse solver.
 // Policy improvement, Eq. (6): pi(s) = argmax_a Q(s, a), ties to the lowest action.
 // The first policy is the greedy policy of w = 0, i.e. action 0 everywhere.
 // Iteration stops by one of two rules (LspiStopping), or after max_iterations
@@ -39,6 +41,18 @@ enum class LspiSolver { brm, lstdq };
 
 enum class LspiStopping { policy_unchanged, weights_converged };
 
+// How each evaluation's system is factorised. sparse: CHOLMOD (BRM) / UMFPACK
+// (LSTD-Q) on the compressed system; dense: LAPACK dpotrf / dgetrf
+// (dense_solvers.hpp); automatic: dense when at least kDenseSystemDensity of the
+// entries the solver reads (BRM: the lower triangle) are non-zero, else sparse,
+// decided per evaluation. The two kinds agree to rounding (different elimination
+// orders), not bit for bit. The threshold is measured (bench/lspi_benchmark.cpp,
+// BM_SolveSystem, LSPI systems of truncated kernels at k = 400 and 1,600): dense
+// wins from a density near 0.2 for LU and between 0.2 and 0.6 for Cholesky, where
+// CHOLMOD's supernodes stay competitive longer on large k.
+enum class LinearAlgebra { automatic, sparse, dense };
+inline constexpr double kDenseSystemDensity = 0.25;
+
 struct LspiOptions {
   double gamma = 0.9;
   double ridge = 0.0;  // lambda
@@ -47,6 +61,7 @@ struct LspiOptions {
   LspiStopping stopping = LspiStopping::policy_unchanged;
   double weight_tolerance = 1e-5;  // epsilon of weights_converged
   bool keep_iterates = false;      // LspiResult::iterates holds every evaluation's weights
+  LinearAlgebra linear_algebra = LinearAlgebra::automatic;
   SolverSettings solver_settings{};
 };
 
@@ -59,6 +74,7 @@ enum class LspiStatus {
 const char* to_string(LspiStatus status);
 const char* to_string(LspiSolver solver);
 const char* to_string(LspiStopping stopping);  // "policy" or "weights"
+const char* to_string(LinearAlgebra kind);     // "auto", "sparse" or "dense"
 
 struct LspiIteration {
   std::int32_t policy_changes =
@@ -67,6 +83,7 @@ struct LspiIteration {
   double relative_residual = 0.0;
   double rcond = 0.0;
   bool reused_analysis = false;
+  bool dense_solve = false;  // factorised by LAPACK (dense), not CHOLMOD / UMFPACK
 };
 
 struct LspiResult {

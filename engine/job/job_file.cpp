@@ -35,15 +35,16 @@ constexpr std::size_t kMaxFileNameBytes = 255;
 constexpr std::array<std::string_view, 8> kCommonTopLevelKeys = {
     "name", "task", "runs", "seed", "sweep", "basis", "lspi", "output"};
 constexpr std::array<std::string_view, 2> kBasisKeys = {"scheme", "truncation"};
-constexpr std::array<std::string_view, 7> kLspiKeys = {
-    "gamma",    "max_iterations",   "fold_duplicates",    "min_rcond",
-    "stopping", "weight_tolerance", "evaluate_iterations"};
+constexpr std::array<std::string_view, 8> kLspiKeys = {
+    "gamma",    "max_iterations",   "fold_duplicates",     "min_rcond",
+    "stopping", "weight_tolerance", "evaluate_iterations", "linear_algebra"};
 constexpr std::array<std::string_view, 3> kOutputKeys = {"file", "compression", "store_matrices"};
 
 constexpr std::array<std::string_view, 2> kKernelTypeNames = {"ggk", "ogk"};
 constexpr std::array<std::string_view, 2> kSolverNames = {"brm", "lstdq"};
 constexpr std::array<std::string_view, 2> kSchemeNames = {"shift", "copy"};
 constexpr std::array<std::string_view, 2> kStoppingNames = {"policy", "weights"};
+constexpr std::array<std::string_view, 3> kLinearAlgebraNames = {"auto", "sparse", "dense"};
 
 bool is_valid_name(std::string_view name) {
   if (name.empty()) return false;
@@ -108,6 +109,10 @@ LspiSettings parse_lspi(const TomlTableReader& job) {
   lspi.weight_tolerance =
       table.number("weight_tolerance", NumberRange::at_least(0.0), lspi.weight_tolerance);
   lspi.evaluate_iterations = table.boolean("evaluate_iterations", lspi.evaluate_iterations);
+  const std::string linear_algebra = table.choice("linear_algebra", kLinearAlgebraNames, "auto");
+  lspi.linear_algebra = linear_algebra == "sparse"  ? kernels::LinearAlgebra::sparse
+                        : linear_algebra == "dense" ? kernels::LinearAlgebra::dense
+                                                    : kernels::LinearAlgebra::automatic;
   return lspi;
 }
 

@@ -53,6 +53,7 @@ struct LspiSettings {
   kernels::LspiStopping stopping = kernels::LspiStopping::policy_unchanged;
   double weight_tolerance = 1e-5;    // epsilon of the "weights" rule
   bool evaluate_iterations = false;  // store and test every iteration's weights
+  kernels::LinearAlgebra linear_algebra = kernels::LinearAlgebra::automatic;
 };
 
 struct OutputSettings {

@@ -33,6 +33,7 @@ kernels::LspiOptions lspi_options(const JobSpec& job, const SweepPoint& point) {
   options.stopping = job.lspi.stopping;
   options.weight_tolerance = job.lspi.weight_tolerance;
   options.keep_iterates = job.lspi.evaluate_iterations;
+  options.linear_algebra = job.lspi.linear_algebra;
   return options;
 }
 

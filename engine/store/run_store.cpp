@@ -131,7 +131,9 @@ void write_fit(Hdf5File& file, const std::string& group, const FitRecord& fit, c
   file.write_vector(group + "/policy", as_span(fit.lspi.policy));
   std::vector<std::int32_t> changes;
   std::vector<double> weight_changes, residuals, rconds;
+  std::vector<std::int32_t> dense_solves;
   for (const auto& it : fit.lspi.history) {
+    dense_solves.push_back(it.dense_solve ? 1 : 0);
     changes.push_back(it.policy_changes);
     weight_changes.push_back(it.weight_change);
     residuals.push_back(it.relative_residual);
@@ -141,6 +143,7 @@ void write_fit(Hdf5File& file, const std::string& group, const FitRecord& fit, c
   file.write_vector(group + "/history/weight_change", as_span(weight_changes));
   file.write_vector(group + "/history/relative_residual", as_span(residuals));
   file.write_vector(group + "/history/rcond", as_span(rconds));
+  file.write_vector(group + "/history/dense_solve", as_span(dense_solves));
   for (const auto& [name, value] : fit.metrics) file.write_double_attribute(group, name, value);
   file.write_double_attribute(group, "fit_seconds", fit.fit_seconds);
   if (job.output.store_matrices && fit.lspi.weights.size() > 0) {

@@ -236,11 +236,81 @@ TEST(Lspi, BrmReusesTheSymbolicAnalysisWhenThePatternHolds) {
   const SparseRowMatrix features = chain_features(30, 2);
   LspiOptions options;
   options.ridge = 1e-6;
+  options.linear_algebra = LinearAlgebra::sparse;
   const LspiResult result = fit_lspi(features, 2, random_chain_walk(30, 2000, 9), options);
   ASSERT_GE(result.iterations(), 2);
   EXPECT_FALSE(result.history[0].reused_analysis);
   // Dense Gaussian features: every iteration's matrix has the same full pattern.
   EXPECT_TRUE(result.history[1].reused_analysis);
+}
+
+// The dense kind (LAPACK) meets the exact answers as the sparse one does: both
+// solvers, stochastic and deterministic, with and without terminal states.
+TEST(Lspi, DenseLinearAlgebraEqualsPolicyIterationOnTabularMdps) {
+  for (const LspiSolver solver : {LspiSolver::brm, LspiSolver::lstdq}) {
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+      const bool deterministic = solver == LspiSolver::brm || seed % 2 == 0;
+      const TabularMdp mdp = random_mdp(20, 4, deterministic, seed % 3 != 0, seed);
+      const ExactSolution exact = exact_policy_iteration(mdp, 0.9);
+      LspiOptions options;
+      options.solver = solver;
+      options.max_iterations = 100;
+      options.linear_algebra = LinearAlgebra::dense;
+      const SparseRowMatrix features = tabular_features(20, 4);
+      const LspiResult result = fit_lspi(features, 4, full_coverage_samples(mdp), options);
+      ASSERT_EQ(result.status, LspiStatus::converged) << result.message;
+      EXPECT_EQ(result.policy, exact.policy) << to_string(solver) << " seed " << seed;
+      EXPECT_LT((action_values(features, result.weights) - exact.q).lpNorm<Eigen::Infinity>(), 1e-8)
+          << to_string(solver) << " seed " << seed;
+      for (const LspiIteration& iteration : result.history) EXPECT_TRUE(iteration.dense_solve);
+    }
+  }
+}
+
+// Dense and sparse factorisations of the same systems: the same policies, hence
+// the same assembled systems bit for bit (A does not depend on the solver), and
+// weights equal to rounding.
+TEST(Lspi, DenseAndSparseLinearAlgebraAgreeToRounding) {
+  const SparseRowMatrix features = chain_features(30, 2);
+  const SampleBatch samples = random_chain_walk(30, 2000, 9);
+  for (const LspiSolver solver : {LspiSolver::brm, LspiSolver::lstdq}) {
+    LspiOptions options;
+    options.solver = solver;
+    options.ridge = 1e-6;
+    options.linear_algebra = LinearAlgebra::sparse;
+    const LspiResult sparse = fit_lspi(features, 2, samples, options);
+    options.linear_algebra = LinearAlgebra::dense;
+    const LspiResult dense = fit_lspi(features, 2, samples, options);
+    ASSERT_TRUE(sparse.ok() && dense.ok()) << sparse.message << dense.message;
+    ASSERT_EQ(sparse.iterations(), dense.iterations());
+    EXPECT_EQ(sparse.policy, dense.policy);
+    EXPECT_TRUE(sparse.a.isApprox(dense.a, 0.0)) << "A must be the same bits";
+    EXPECT_EQ(sparse.a.nonZeros(), dense.a.nonZeros());
+    EXPECT_EQ(sparse.b, dense.b);
+    EXPECT_LT((sparse.weights - dense.weights).norm(), 1e-9 * sparse.weights.norm());
+    for (std::int32_t i = 0; i < sparse.iterations(); ++i) {
+      EXPECT_FALSE(sparse.history[static_cast<std::size_t>(i)].dense_solve);
+      EXPECT_TRUE(dense.history[static_cast<std::size_t>(i)].dense_solve);
+      EXPECT_FALSE(dense.history[static_cast<std::size_t>(i)].reused_analysis);
+    }
+  }
+}
+
+// automatic: dense Gaussian kernels give dense systems (LAPACK); one indicator
+// per state-action pair gives a diagonal one (CHOLMOD / UMFPACK).
+TEST(Lspi, AutomaticLinearAlgebraFollowsTheSystemsDensity) {
+  LspiOptions options;
+  options.ridge = 1e-6;
+  ASSERT_EQ(options.linear_algebra, LinearAlgebra::automatic);
+  const LspiResult gaussian =
+      fit_lspi(chain_features(30, 2), 2, random_chain_walk(30, 2000, 9), options);
+  ASSERT_TRUE(gaussian.ok()) << gaussian.message;
+  for (const LspiIteration& iteration : gaussian.history) EXPECT_TRUE(iteration.dense_solve);
+  const TabularMdp mdp = random_mdp(20, 4, true, false, 3);
+  const LspiResult tabular =
+      fit_lspi(tabular_features(20, 4), 4, full_coverage_samples(mdp), options);
+  ASSERT_TRUE(tabular.ok()) << tabular.message;
+  for (const LspiIteration& iteration : tabular.history) EXPECT_FALSE(iteration.dense_solve);
 }
 
 TEST(Lspi, StopsAtTheIterationCap) {

@@ -119,6 +119,7 @@ min_rcond = 1e-12
 stopping = "weights"
 weight_tolerance = 1e-4
 evaluate_iterations = true
+linear_algebra = "sparse"
 
 [output]
 file = "%DIR%/out/full.h5"
@@ -157,6 +158,7 @@ TEST_F(JobFileTest, ReadsEveryKey) {
   EXPECT_EQ(job.lspi.stopping, kernels::LspiStopping::weights_converged);
   EXPECT_EQ(job.lspi.weight_tolerance, 1e-4);
   EXPECT_TRUE(job.lspi.evaluate_iterations);
+  EXPECT_EQ(job.lspi.linear_algebra, kernels::LinearAlgebra::sparse);
   EXPECT_EQ(job.output.file, dir_ / "out" / "full.h5");
   EXPECT_EQ(job.output.compression, 0);
   EXPECT_TRUE(job.output.store_matrices);
@@ -200,6 +202,7 @@ file = "%DIR%/out/minimal.h5"
   EXPECT_EQ(job.lspi.stopping, kernels::LspiStopping::policy_unchanged);
   EXPECT_EQ(job.lspi.weight_tolerance, 1e-5);
   EXPECT_FALSE(job.lspi.evaluate_iterations);
+  EXPECT_EQ(job.lspi.linear_algebra, kernels::LinearAlgebra::automatic);
   EXPECT_EQ(job.output.compression, 4);
   EXPECT_FALSE(job.output.store_matrices);
 }
@@ -438,6 +441,9 @@ std::vector<MalformedJob> malformed_jobs() {
       {"stopping unknown",
        h + "[lspi]\nstopping = \"weight\"\n",
        {"bad.toml:11:1: [lspi] stopping:", "\"weight\"", "weights"}},
+      {"linear_algebra unknown",
+       h + "[lspi]\nlinear_algebra = \"lapack\"\n",
+       {"bad.toml:11:1: [lspi] linear_algebra:", "\"lapack\"", "dense"}},
       {"weight_tolerance < 0",
        h + "[lspi]\nweight_tolerance = -1e-5\n",
        {"bad.toml:11:1: [lspi] weight_tolerance:", "got -1e-05"}},

@@ -1,0 +1,59 @@
+#pragma once
+// Dense direct solvers for the LSPI systems (LAPACK through the BLAS the engine
+// runs: Debian's OpenBLAS), with the same failure detection and the same report
+// as the sparse solvers (sparse_solvers.hpp), so either kind can evaluate a fit.
+//
+// DenseSymmetricSolver: Cholesky LL^T (dpotrf / dpotrs), lower triangle read.
+// DenseLuSolver: LU with partial pivoting (dgetrf / dgetrs).
+// A matrix that is not positive definite / is singular, a reciprocal condition
+// estimate under min_rcond, or a non-finite solution is reported and the solution
+// is left untouched. The estimates are the sparse solvers' own definitions, read
+// off the dense factors: Cholesky (min L_ii / max L_ii)^2 as CHOLMOD's
+// cholmod_rcond, LU min |U_ii| / max |U_ii| as UMFPACK's UMFPACK_RCOND, so
+// min_rcond means one thing for both kinds.
+//
+// Why dense at all: the LSPI systems of Gaussian kernels are mostly dense (each
+// p x p action block is a sum of kernel outer products), and on a dense matrix a
+// sparse factorisation pays for index bookkeeping, memory growth and page faults
+// that LAPACK's blocked dpotrf / dgetrf do not (bench/lspi_benchmark.cpp,
+// BM_FitLspi: linear_algebra sparse vs dense).
+//
+// Thread-safety: none; one solver per task. BLAS must be single-threaded inside
+// tasks (the engine arranges it).
+
+#include <vector>
+
+#include "kernels/eigen_types.hpp"
+#include "kernels/sparse_solvers.hpp"
+
+namespace ggk::kernels {
+
+class DenseSymmetricSolver {
+ public:
+  explicit DenseSymmetricSolver(SolverSettings settings = {});
+
+  // Solves (A + ridge I) x = b; only the lower triangle of A is read.
+  // report.reused_analysis is always false (a dense factorisation has none).
+  SolveReport solve(const Eigen::MatrixXd& a, double ridge, const Eigen::VectorXd& b,
+                    Eigen::VectorXd& x);
+
+ private:
+  SolverSettings settings_;
+  Eigen::MatrixXd factor_;  // reused from call to call: no fresh pages per solve
+};
+
+class DenseLuSolver {
+ public:
+  explicit DenseLuSolver(SolverSettings settings = {});
+
+  // Solves (A + ridge I) x = b. report.reused_analysis is always false.
+  SolveReport solve(const Eigen::MatrixXd& a, double ridge, const Eigen::VectorXd& b,
+                    Eigen::VectorXd& x);
+
+ private:
+  SolverSettings settings_;
+  Eigen::MatrixXd factor_;
+  std::vector<int> pivots_;
+};
+
+}  // namespace ggk::kernels

@@ -1,0 +1,114 @@
+#include "kernels/dense_solvers.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "kernels/random_stream.hpp"
+
+namespace ggk::kernels {
+namespace {
+
+Eigen::MatrixXd random_spd(int n, std::uint64_t seed) {
+  RandomStream rng(seed, 0, 0);
+  Eigen::MatrixXd m(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) m(i, j) = rng.uniform(-1, 1);
+  return m.transpose() * m + Eigen::MatrixXd::Identity(n, n);
+}
+
+TEST(DenseSymmetricSolver, SolvesPositiveDefiniteSystemsWithTheRidgeOnTheDiagonal) {
+  const Eigen::MatrixXd a = random_spd(40, 1);
+  const Eigen::VectorXd expected = Eigen::VectorXd::LinSpaced(40, -1, 2);
+  const double ridge = 0.5;
+  const Eigen::VectorXd b = a * expected + ridge * expected;
+  // Only the lower triangle is read: garbage above the diagonal changes nothing.
+  Eigen::MatrixXd lower_only = a;
+  lower_only.triangularView<Eigen::StrictlyUpper>().setConstant(1e30);
+  DenseSymmetricSolver solver;
+  Eigen::VectorXd x;
+  const SolveReport report = solver.solve(lower_only, ridge, b, x);
+  ASSERT_TRUE(report.ok) << report.message;
+  EXPECT_LT((x - expected).norm(), 1e-10);
+  EXPECT_LT(report.relative_residual, 1e-13);
+  EXPECT_FALSE(report.reused_analysis);
+}
+
+TEST(DenseSymmetricSolver, EstimatesTheConditionAsCholmodDoes) {
+  // diag(4, 1e-4): L = diag(2, 0.01), so (min L_ii / max L_ii)^2 = 2.5e-5, the
+  // value cholmod_rcond gives for the same matrix.
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2, 2);
+  a(0, 0) = 4.0;
+  a(1, 1) = 1e-4;
+  DenseSymmetricSolver solver;
+  Eigen::VectorXd x;
+  const SolveReport report = solver.solve(a, 0.0, Eigen::VectorXd::Ones(2), x);
+  ASSERT_TRUE(report.ok) << report.message;
+  EXPECT_DOUBLE_EQ(report.rcond, 2.5e-5);
+  SymmetricSolver sparse;
+  Eigen::VectorXd y;
+  EXPECT_DOUBLE_EQ(sparse.solve(a.sparseView(), Eigen::VectorXd::Ones(2), y).rcond, 2.5e-5);
+}
+
+TEST(DenseSymmetricSolver, ReportsIndefiniteIllConditionedAndNonFiniteSystems) {
+  DenseSymmetricSolver solver;
+  Eigen::VectorXd x = Eigen::VectorXd::Constant(2, 7.0);
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(2);
+
+  Eigen::MatrixXd indefinite(2, 2);
+  indefinite << 1, 0, 0, -1;
+  SolveReport report = solver.solve(indefinite, 0.0, b, x);
+  EXPECT_FALSE(report.ok);
+  EXPECT_NE(report.message.find("not positive definite (failed at column 1 of 2)"),
+            std::string::npos)
+      << report.message;
+
+  Eigen::MatrixXd nearly_singular(2, 2);
+  nearly_singular << 1, 0, 0, 1e-20;
+  report = solver.solve(nearly_singular, 0.0, b, x);
+  EXPECT_FALSE(report.ok);
+  EXPECT_NE(report.message.find("ill-conditioned"), std::string::npos) << report.message;
+
+  Eigen::MatrixXd with_nan(2, 2);
+  with_nan << 1, 0, std::numeric_limits<double>::quiet_NaN(), 1;
+  report = solver.solve(with_nan, 0.0, b, x);
+  EXPECT_FALSE(report.ok);
+  EXPECT_NE(report.message.find("non-finite"), std::string::npos) << report.message;
+
+  report = solver.solve(Eigen::MatrixXd::Identity(2, 2), 0.0, Eigen::VectorXd::Ones(3), x);
+  EXPECT_FALSE(report.ok);
+  EXPECT_NE(report.message.find("shape mismatch"), std::string::npos) << report.message;
+
+  // The output is untouched on failure.
+  EXPECT_EQ(x, Eigen::VectorXd::Constant(2, 7.0));
+}
+
+TEST(DenseLuSolver, SolvesGeneralSystems) {
+  RandomStream rng(4, 0, 0);
+  Eigen::MatrixXd a = Eigen::MatrixXd::Identity(25, 25) * 3.0;
+  for (int i = 0; i < 25; ++i)
+    for (int j = 0; j < 25; ++j) a(i, j) += rng.uniform(-1, 1);
+  const Eigen::VectorXd expected = Eigen::VectorXd::LinSpaced(25, 1, 3);
+  DenseLuSolver solver;
+  Eigen::VectorXd x;
+  const SolveReport report = solver.solve(a, 1e-3, a * expected + 1e-3 * expected, x);
+  ASSERT_TRUE(report.ok) << report.message;
+  EXPECT_LT((x - expected).norm(), 1e-10);
+  EXPECT_GT(report.rcond, 0.0);
+  EXPECT_LE(report.rcond, 1.0);
+}
+
+TEST(DenseLuSolver, ReportsSingularSystemsAndLeavesTheOutputAlone) {
+  Eigen::MatrixXd singular(3, 3);
+  singular << 1, 2, 3, 2, 4, 6, 0, 1, 1;
+  DenseLuSolver solver;
+  Eigen::VectorXd x;
+  const SolveReport report = solver.solve(singular, 0.0, Eigen::VectorXd::Ones(3), x);
+  EXPECT_FALSE(report.ok);
+  EXPECT_FALSE(report.message.empty());
+  EXPECT_EQ(x.size(), 0);
+}
+
+}  // namespace
+}  // namespace ggk::kernels
