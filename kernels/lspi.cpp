@@ -116,9 +116,9 @@ void compress_system(const Eigen::MatrixXd& dense, Triangle triangle, double rid
   a.finalize();
 }
 
-// Whether `automatic` factorises this system densely: the share of non-zeros
-// among the entries the solver reads (the lower triangle for BRM, all for LSTD-Q;
-// the diagonal counts, as the ridge makes it structurally present).
+// Whether the share of non-zeros among the entries the solver reads (the lower
+// triangle for BRM, all for LSTD-Q; the diagonal counts, as the ridge makes it
+// structurally present) reaches kDenseSystemDensity.
 bool dense_enough(const Eigen::MatrixXd& dense, Triangle triangle) {
   const Eigen::Index k = dense.cols();
   std::int64_t nonzeros = 0, read = 0;
@@ -373,9 +373,9 @@ LspiResult iterate_policies(ActionBlockSystem& system, std::size_t num_states,
   for (std::int32_t iteration = 1; iteration <= options.max_iterations; ++iteration) {
     Eigen::VectorXd b;
     system.update(policy, dense_a, b);
-    const bool dense =
-        options.linear_algebra == LinearAlgebra::dense ||
-        (options.linear_algebra == LinearAlgebra::automatic && dense_enough(dense_a, triangle));
+    const bool dense = options.linear_algebra == LinearAlgebra::dense ||
+                       (options.linear_algebra == LinearAlgebra::automatic && brm &&
+                        dense_enough(dense_a, triangle));
 
     Eigen::VectorXd w;
     SolveReport report;

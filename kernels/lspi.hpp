@@ -43,13 +43,22 @@ enum class LspiStopping { policy_unchanged, weights_converged };
 
 // How each evaluation's system is factorised. sparse: CHOLMOD (BRM) / UMFPACK
 // (LSTD-Q) on the compressed system; dense: LAPACK dpotrf / dgetrf
-// (dense_solvers.hpp); automatic: dense when at least kDenseSystemDensity of the
-// entries the solver reads (BRM: the lower triangle) are non-zero, else sparse,
-// decided per evaluation. The two kinds agree to rounding (different elimination
-// orders), not bit for bit. The threshold is measured (bench/lspi_benchmark.cpp,
-// BM_SolveSystem, LSPI systems of truncated kernels at k = 400 and 1,600): dense
-// wins from a density near 0.2 for LU and between 0.2 and 0.6 for Cholesky, where
-// CHOLMOD's supernodes stay competitive longer on large k.
+// (dense_solvers.hpp); automatic: BRM dense when at least kDenseSystemDensity of
+// its lower triangle is non-zero (decided per evaluation), else sparse; LSTD-Q
+// always sparse. The kinds agree to rounding (different elimination orders), not
+// bit for bit, except where the greedy step meets an exact tie:
+// - Weights that are zero in exact arithmetic (a block of actions that no reward
+//   reaches through the system's block structure) stay exact zeros under
+//   Cholesky, dense or sparse (no pivoting: products and sums of zeros), and
+//   under UMFPACK, which keeps the block structure. LAPACK's LU pivots rows across
+//   blocks and leaves rounding residue (~1e-13) there; the argmax over Q values
+//   that are 0 in exact arithmetic then follows that residue instead of the
+//   lowest-action rule. The maze job (jobs/maze.toml, run 10: 8 of 480 LSTD-Q
+//   fits) changes its policies that way, so automatic keeps LSTD-Q on UMFPACK.
+// - The density threshold is measured (bench/lspi_benchmark.cpp, BM_SolveSystem,
+//   LSPI systems of truncated kernels at k = 400 and 1,600): dense Cholesky wins
+//   from a density between 0.2 and 0.6 (CHOLMOD's supernodes stay competitive
+//   longer at large k), dense LU from near 0.2.
 enum class LinearAlgebra { automatic, sparse, dense };
 inline constexpr double kDenseSystemDensity = 0.25;
 

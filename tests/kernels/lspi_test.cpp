@@ -296,8 +296,9 @@ TEST(Lspi, DenseAndSparseLinearAlgebraAgreeToRounding) {
   }
 }
 
-// automatic: dense Gaussian kernels give dense systems (LAPACK); one indicator
-// per state-action pair gives a diagonal one (CHOLMOD / UMFPACK).
+// automatic: BRM with dense Gaussian kernels gives dense systems (LAPACK); one
+// indicator per state-action pair gives a sparse one (CHOLMOD); LSTD-Q stays
+// with UMFPACK.
 TEST(Lspi, AutomaticLinearAlgebraFollowsTheSystemsDensity) {
   LspiOptions options;
   options.ridge = 1e-6;
@@ -311,6 +312,42 @@ TEST(Lspi, AutomaticLinearAlgebraFollowsTheSystemsDensity) {
       fit_lspi(tabular_features(20, 4), 4, full_coverage_samples(mdp), options);
   ASSERT_TRUE(tabular.ok()) << tabular.message;
   for (const LspiIteration& iteration : tabular.history) EXPECT_FALSE(iteration.dense_solve);
+  options.solver = LspiSolver::lstdq;
+  const LspiResult lstdq =
+      fit_lspi(chain_features(30, 2), 2, random_chain_walk(30, 2000, 9), options);
+  ASSERT_TRUE(lstdq.ok()) << lstdq.message;
+  for (const LspiIteration& iteration : lstdq.history) EXPECT_FALSE(iteration.dense_solve);
+}
+
+// Three actions on the chain (left, right, stay); only "stay" at the last state
+// is rewarded (terminal). The first LSTD-Q evaluation (policy: action 0) is block
+// lower triangular with b zero in the blocks of actions 0 and 1, so their weights
+// are zero in exact arithmetic and Q(s, 0) = Q(s, 1) = 0 ties everywhere: the
+// greedy step must see exact zeros (ties to the lowest action), not rounding
+// residue. UMFPACK keeps them exact; LAPACK's pivoted LU need not, which is why
+// automatic keeps LSTD-Q sparse.
+TEST(Lspi, AutomaticLstdqKeepsWeightsThatAreZeroInExactArithmeticExact) {
+  const int n = 30;
+  RandomStream rng(21, 0, 0);
+  SampleBatch batch;
+  for (int t = 0; t < 3000; ++t) {
+    const int s = static_cast<int>(rng.uniform_index(n));
+    const int a = static_cast<int>(rng.uniform_index(3));
+    const int s_next = std::clamp(s + (a == 0 ? -1 : a == 1 ? 1 : 0), 0, n - 1);
+    const bool goal = a == 2 && s == n - 1;
+    batch.add(s, a, goal ? 1.0 : 0.0, s_next, goal);
+  }
+  LspiOptions options;
+  options.solver = LspiSolver::lstdq;
+  options.ridge = 1e-6;
+  options.max_iterations = 1;
+  options.keep_iterates = true;
+  const LspiResult result = fit_lspi(chain_features(n, 3), 3, batch, options);
+  ASSERT_TRUE(result.ok()) << result.message;
+  const Eigen::Index p = result.weights.size() / 3;
+  EXPECT_TRUE((result.weights.head(2 * p).array() == 0.0).all())
+      << result.weights.head(2 * p).transpose();
+  EXPECT_GT(result.weights.tail(p).norm(), 0.0);
 }
 
 TEST(Lspi, StopsAtTheIterationCap) {
