@@ -72,6 +72,9 @@ class ActionBlockSystem {
                       Eigen::VectorXd& b);
   bool last_update_rebuilt() const { return last_rebuilt_; }
 
+  // p: A is m x m blocks of this size, one per action pair.
+  Eigen::Index block_size() const { return p_; }
+
  private:
   // The policy-dependent parts: C_xy (m * m blocks, row x * m + y), E_y (m blocks,
   // lower triangle, BRM), b (start_rhs_ minus gamma sum_i e_{b_i} v_i sqrt(w_i) r_i

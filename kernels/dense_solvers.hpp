@@ -4,7 +4,16 @@
 // as the sparse solvers (sparse_solvers.hpp), so either kind can evaluate a fit.
 //
 // DenseSymmetricSolver: Cholesky LL^T (dpotrf / dpotrs), lower triangle read.
-// DenseLuSolver: LU with partial pivoting (dgetrf / dgetrs).
+// DenseLuSolver: LU with partial pivoting (dgetrf / dgetrs), in block triangular
+// form when given a block size: the matrix is read as nb x nb blocks, the
+// strongly connected components of its block graph (i -> j when A_ij != 0) are
+// solved one after the other by forward substitution, each by its own LU. Pivoting
+// then never mixes rows of blocks that the structure keeps apart, so unknowns that
+// are zero in exact arithmetic (a block whose right-hand side is zero and which
+// depends only on such blocks) come out as exact zeros, as from UMFPACK, instead
+// of pivoting residue (LSPI's greedy step breaks exact ties by the lowest action;
+// residue would break them at random). One component holding all blocks is a plain
+// LU of the whole matrix.
 // A matrix that is not positive definite / is singular, a reciprocal condition
 // estimate under min_rcond, or a non-finite solution is reported and the solution
 // is left untouched. The estimates are the sparse solvers' own definitions, read
@@ -46,9 +55,10 @@ class DenseLuSolver {
  public:
   explicit DenseLuSolver(SolverSettings settings = {});
 
-  // Solves (A + ridge I) x = b. report.reused_analysis is always false.
+  // Solves (A + ridge I) x = b; block_size > 0 dividing the order: in block
+  // triangular form of blocks of that size. report.reused_analysis is always false.
   SolveReport solve(const Eigen::MatrixXd& a, double ridge, const Eigen::VectorXd& b,
-                    Eigen::VectorXd& x);
+                    Eigen::VectorXd& x, Eigen::Index block_size = 0);
 
  private:
   SolverSettings settings_;

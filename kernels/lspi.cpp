@@ -373,15 +373,15 @@ LspiResult iterate_policies(ActionBlockSystem& system, std::size_t num_states,
   for (std::int32_t iteration = 1; iteration <= options.max_iterations; ++iteration) {
     Eigen::VectorXd b;
     system.update(policy, dense_a, b);
-    const bool dense = options.linear_algebra == LinearAlgebra::dense ||
-                       (options.linear_algebra == LinearAlgebra::automatic && brm &&
-                        dense_enough(dense_a, triangle));
+    const bool dense =
+        options.linear_algebra == LinearAlgebra::dense ||
+        (options.linear_algebra == LinearAlgebra::automatic && dense_enough(dense_a, triangle));
 
     Eigen::VectorXd w;
     SolveReport report;
     if (dense) {
       report = brm ? dense_symmetric.solve(dense_a, options.ridge, b, w)
-                   : dense_lu.solve(dense_a, options.ridge, b, w);
+                   : dense_lu.solve(dense_a, options.ridge, b, w, system.block_size());
     } else {
       compress_system(dense_a, triangle, options.ridge, a);
       report = brm ? symmetric.solve(a, b, w) : nonsymmetric.solve(a, b, w);

@@ -43,18 +43,19 @@ enum class LspiStopping { policy_unchanged, weights_converged };
 
 // How each evaluation's system is factorised. sparse: CHOLMOD (BRM) / UMFPACK
 // (LSTD-Q) on the compressed system; dense: LAPACK dpotrf / dgetrf
-// (dense_solvers.hpp); automatic: BRM dense when at least kDenseSystemDensity of
-// its lower triangle is non-zero (decided per evaluation), else sparse; LSTD-Q
-// always sparse. The kinds agree to rounding (different elimination orders), not
-// bit for bit, except where the greedy step meets an exact tie:
+// (dense_solvers.hpp), LU in block triangular form over the action blocks;
+// automatic: dense when at least kDenseSystemDensity of the entries the solver
+// reads (BRM: the lower triangle) are non-zero, else sparse, decided per
+// evaluation. The kinds agree to rounding (different elimination orders), not bit
+// for bit. Where the greedy step meets an exact tie they must agree exactly:
 // - Weights that are zero in exact arithmetic (a block of actions that no reward
 //   reaches through the system's block structure) stay exact zeros under
-//   Cholesky, dense or sparse (no pivoting: products and sums of zeros), and
-//   under UMFPACK, which keeps the block structure. LAPACK's LU pivots rows across
-//   blocks and leaves rounding residue (~1e-13) there; the argmax over Q values
-//   that are 0 in exact arithmetic then follows that residue instead of the
-//   lowest-action rule. The maze job (jobs/maze.toml, run 10: 8 of 480 LSTD-Q
-//   fits) changes its policies that way, so automatic keeps LSTD-Q on UMFPACK.
+//   Cholesky, dense or sparse (no pivoting: products and sums of zeros), under
+//   UMFPACK, and under the dense LU in block triangular form. A plain pivoted LU
+//   of the whole matrix leaves rounding residue (~1e-13) there, and the argmax
+//   over Q values that are 0 in exact arithmetic then follows the residue instead
+//   of the lowest-action rule: with it, 8 of the 480 LSTD-Q fits of
+//   jobs/maze.toml (run 10) changed policy.
 // - The density threshold is measured (bench/lspi_benchmark.cpp, BM_SolveSystem,
 //   LSPI systems of truncated kernels at k = 400 and 1,600): dense Cholesky wins
 //   from a density between 0.2 and 0.6 (CHOLMOD's supernodes stay competitive

@@ -110,5 +110,47 @@ TEST(DenseLuSolver, ReportsSingularSystemsAndLeavesTheOutputAlone) {
   EXPECT_EQ(x.size(), 0);
 }
 
+// Blocks of 3: x0 = A00^-1 b0 with b0 = 0, so x0 is zero in exact arithmetic;
+// the rows of block 1 have larger entries in block 0's columns, so a pivoted LU
+// of the whole matrix takes its pivots there and mixes b1 into x0's elimination.
+// The block triangular form solves block 0 alone: exact zeros.
+TEST(DenseLuSolver, BlockTriangularFormKeepsExactZeros) {
+  RandomStream rng(8, 0, 0);
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(6, 6);
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      a(i, j) = (i == j ? 1.0 : 0.0) + 0.1 * rng.uniform(-1, 1);
+      a(3 + i, j) = 10.0 + rng.uniform(-1, 1);  // block (1, 0), large
+      a(3 + i, 3 + j) = (i == j ? 2.0 : 0.0) + 0.1 * rng.uniform(-1, 1);
+    }
+  }
+  Eigen::VectorXd b(6);
+  b << 0, 0, 0, 1.0 / 3.0, 0.7, -2.0 / 7.0;
+  DenseLuSolver solver;
+  Eigen::VectorXd blocked, whole;
+  ASSERT_TRUE(solver.solve(a, 0.0, b, blocked, 3).ok);
+  EXPECT_TRUE((blocked.head(3).array() == 0.0).all()) << blocked.transpose();
+  ASSERT_TRUE(solver.solve(a, 0.0, b, whole).ok);
+  EXPECT_LT((whole - blocked).norm(), 1e-12);
+  // Block 1 alone: x1 = A11^-1 b1.
+  const Eigen::VectorXd x1 = a.block(3, 3, 3, 3).partialPivLu().solve(b.tail(3));
+  EXPECT_LT((blocked.tail(3) - x1).norm(), 1e-14);
+}
+
+TEST(DenseLuSolver, BlockTriangularFormOfAnIrreducibleMatrixIsThePlainLu) {
+  RandomStream rng(9, 0, 0);
+  Eigen::MatrixXd a = Eigen::MatrixXd::Identity(8, 8) * 3.0;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j) a(i, j) += rng.uniform(-1, 1);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(8, -1, 1);
+  DenseLuSolver solver;
+  Eigen::VectorXd blocked, whole;
+  const SolveReport blocked_report = solver.solve(a, 0.5, b, blocked, 4);
+  const SolveReport whole_report = solver.solve(a, 0.5, b, whole);
+  ASSERT_TRUE(blocked_report.ok && whole_report.ok);
+  EXPECT_EQ(blocked, whole);  // the same bits
+  EXPECT_EQ(blocked_report.rcond, whole_report.rcond);
+}
+
 }  // namespace
 }  // namespace ggk::kernels

@@ -296,9 +296,8 @@ TEST(Lspi, DenseAndSparseLinearAlgebraAgreeToRounding) {
   }
 }
 
-// automatic: BRM with dense Gaussian kernels gives dense systems (LAPACK); one
-// indicator per state-action pair gives a sparse one (CHOLMOD); LSTD-Q stays
-// with UMFPACK.
+// automatic: dense Gaussian kernels give dense systems (LAPACK), BRM and LSTD-Q;
+// one indicator per state-action pair gives a sparse one (CHOLMOD).
 TEST(Lspi, AutomaticLinearAlgebraFollowsTheSystemsDensity) {
   LspiOptions options;
   options.ridge = 1e-6;
@@ -316,7 +315,7 @@ TEST(Lspi, AutomaticLinearAlgebraFollowsTheSystemsDensity) {
   const LspiResult lstdq =
       fit_lspi(chain_features(30, 2), 2, random_chain_walk(30, 2000, 9), options);
   ASSERT_TRUE(lstdq.ok()) << lstdq.message;
-  for (const LspiIteration& iteration : lstdq.history) EXPECT_FALSE(iteration.dense_solve);
+  for (const LspiIteration& iteration : lstdq.history) EXPECT_TRUE(iteration.dense_solve);
 }
 
 // Three actions on the chain (left, right, stay); only "stay" at the last state
@@ -324,9 +323,9 @@ TEST(Lspi, AutomaticLinearAlgebraFollowsTheSystemsDensity) {
 // lower triangular with b zero in the blocks of actions 0 and 1, so their weights
 // are zero in exact arithmetic and Q(s, 0) = Q(s, 1) = 0 ties everywhere: the
 // greedy step must see exact zeros (ties to the lowest action), not rounding
-// residue. UMFPACK keeps them exact; LAPACK's pivoted LU need not, which is why
-// automatic keeps LSTD-Q sparse.
-TEST(Lspi, AutomaticLstdqKeepsWeightsThatAreZeroInExactArithmeticExact) {
+// residue. UMFPACK keeps them exact, and so does the dense LU in block triangular
+// form; a plain pivoted LU of the whole matrix does not.
+TEST(Lspi, LstdqKeepsWeightsThatAreZeroInExactArithmeticExact) {
   const int n = 30;
   RandomStream rng(21, 0, 0);
   SampleBatch batch;
@@ -337,17 +336,19 @@ TEST(Lspi, AutomaticLstdqKeepsWeightsThatAreZeroInExactArithmeticExact) {
     const bool goal = a == 2 && s == n - 1;
     batch.add(s, a, goal ? 1.0 : 0.0, s_next, goal);
   }
-  LspiOptions options;
-  options.solver = LspiSolver::lstdq;
-  options.ridge = 1e-6;
-  options.max_iterations = 1;
-  options.keep_iterates = true;
-  const LspiResult result = fit_lspi(chain_features(n, 3), 3, batch, options);
-  ASSERT_TRUE(result.ok()) << result.message;
-  const Eigen::Index p = result.weights.size() / 3;
-  EXPECT_TRUE((result.weights.head(2 * p).array() == 0.0).all())
-      << result.weights.head(2 * p).transpose();
-  EXPECT_GT(result.weights.tail(p).norm(), 0.0);
+  for (const LinearAlgebra kind : {LinearAlgebra::sparse, LinearAlgebra::dense}) {
+    LspiOptions options;
+    options.solver = LspiSolver::lstdq;
+    options.ridge = 1e-6;
+    options.max_iterations = 1;
+    options.linear_algebra = kind;
+    const LspiResult result = fit_lspi(chain_features(n, 3), 3, batch, options);
+    ASSERT_TRUE(result.ok()) << result.message;
+    const Eigen::Index p = result.weights.size() / 3;
+    EXPECT_TRUE((result.weights.head(2 * p).array() == 0.0).all())
+        << to_string(kind) << ": " << result.weights.head(2 * p).transpose();
+    EXPECT_GT(result.weights.tail(p).norm(), 0.0);
+  }
 }
 
 TEST(Lspi, StopsAtTheIterationCap) {
