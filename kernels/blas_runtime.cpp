@@ -1,6 +1,8 @@
 #include "kernels/blas_runtime.hpp"
 
 #include <dlfcn.h>
+#include <limits.h>
+#include <stdlib.h>
 
 #include <mutex>
 
@@ -24,14 +26,27 @@ void use_calling_thread_blas() {
   });
 }
 
+std::string lapack_library() {
+  void* dgetrf = dlsym(RTLD_DEFAULT, "dgetrf_");
+  Dl_info info{};
+  if (dgetrf == nullptr || dladdr(dgetrf, &info) == 0 || info.dli_fname == nullptr) {
+    return "unknown";
+  }
+  // The file behind the name: liblapack.so.3 is a chain of links to Debian's
+  // alternative (OpenBLAS's LAPACK, or the reference one).
+  char resolved[PATH_MAX];
+  return realpath(info.dli_fname, resolved) != nullptr ? resolved : info.dli_fname;
+}
+
 BlasInfo blas_info() {
   auto* get_parallel = openblas_symbol<int()>("openblas_get_parallel");
   auto* get_config = openblas_symbol<char*()>("openblas_get_config");
+  const std::string lapack = "; LAPACK from " + lapack_library();
   if (get_parallel == nullptr || get_config == nullptr)
-    return {"libblas.so.3 (not OpenBLAS; assumed thread-safe)", true};
+    return {"libblas.so.3 (not OpenBLAS; assumed thread-safe)" + lapack, true};
   const int parallel = get_parallel();  // 0 serial, 1 pthread, 2 OpenMP
   const char* build = parallel == 0 ? "serial" : parallel == 1 ? "pthread" : "openmp";
-  return {std::string(get_config()) + " (" + build + " build)", parallel != 0};
+  return {std::string(get_config()) + " (" + build + " build)" + lapack, parallel != 0};
 }
 
 }  // namespace ggk::kernels

@@ -1,7 +1,8 @@
 #pragma once
 // The BLAS behind Eigen's dense products (EIGEN_USE_BLAS), CHOLMOD and UMFPACK is
-// whatever libblas.so.3 resolves to at run time; on Debian that is an alternative,
-// OpenBLAS in the install (scripts/install-deps.sh). ggk calls it from many TBB
+// whatever libblas.so.3 resolves to at run time, and the LAPACK of the dense LSPI
+// solves whatever liblapack.so.3 does; on Debian both are alternatives, OpenBLAS
+// in the install (scripts/install-deps.sh). ggk calls it from many TBB
 // tasks at once, so it needs a BLAS that
 //   - is safe to call concurrently: OpenBLAS's pthread build or the reference BLAS;
 //     Debian 12's serial OpenBLAS is not (it is built without locking: concurrent
@@ -16,7 +17,10 @@
 namespace ggk::kernels {
 
 struct BlasInfo {
-  std::string name;             // e.g. "OpenBLAS 0.3.21 ... Zen MAX_THREADS=64 (pthread build)"
+  // e.g. "OpenBLAS 0.3.21 ... Zen MAX_THREADS=64 (pthread build); LAPACK from
+  // /usr/lib/x86_64-linux-gnu/openblas-pthread/liblapack.so.3" (the library that
+  // resolved dgetrf_: the dense LSPI solves' bits depend on it as on the BLAS)
+  std::string name;
   bool concurrent_safe = true;  // false for a serial OpenBLAS built without locking
 };
 

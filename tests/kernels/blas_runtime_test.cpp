@@ -15,6 +15,8 @@ TEST(BlasRuntime, TheInstalledBlasIsSafeToCallConcurrently) {
   const BlasInfo info = blas_info();
   EXPECT_TRUE(info.concurrent_safe) << info.name;
   EXPECT_FALSE(info.name.empty());
+  // The LAPACK library is named (by the path it was loaded from).
+  EXPECT_NE(info.name.find("; LAPACK from /"), std::string::npos) << info.name;
 }
 
 // Products of the sizes LSPI forms (GEMM and SYRK through EIGEN_USE_BLAS), on four

@@ -1,7 +1,10 @@
 #include "kernels/dense_solvers.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -150,6 +153,47 @@ TEST(DenseLuSolver, BlockTriangularFormOfAnIrreducibleMatrixIsThePlainLu) {
   ASSERT_TRUE(blocked_report.ok && whole_report.ok);
   EXPECT_EQ(blocked, whole);  // the same bits
   EXPECT_EQ(blocked_report.rcond, whole_report.rcond);
+}
+
+// LAPACK's factorisations from four threads at once (as LSPI fits in TBB tasks
+// call them) equal the same solves on one thread, bit for bit.
+TEST(DenseSolvers, ConcurrentSolvesEqualSequentialOnesBitForBit) {
+  struct Case {
+    Eigen::MatrixXd a;
+    Eigen::VectorXd b, cholesky, lu;
+  };
+  std::vector<Case> cases;
+  for (int c = 0; c < 12; ++c) {
+    const int n = 20 + 37 * c;
+    Case item{random_spd(n, 100 + static_cast<std::uint64_t>(c)),
+              Eigen::VectorXd::LinSpaced(n, -1, 1),
+              {},
+              {}};
+    DenseSymmetricSolver cholesky;
+    DenseLuSolver lu;
+    EXPECT_TRUE(cholesky.solve(item.a, 1e-6, item.b, item.cholesky).ok);
+    EXPECT_TRUE(lu.solve(item.a, 1e-6, item.b, item.lu).ok);
+    cases.push_back(std::move(item));
+  }
+  std::atomic<int> mismatches{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      DenseSymmetricSolver cholesky;
+      DenseLuSolver lu;
+      for (int round = 0; round < 10; ++round) {
+        for (std::size_t c = 0; c < cases.size(); ++c) {
+          const Case& item = cases[(c + static_cast<std::size_t>(t)) % cases.size()];
+          Eigen::VectorXd x, y;
+          cholesky.solve(item.a, 1e-6, item.b, x);
+          lu.solve(item.a, 1e-6, item.b, y);
+          if (x != item.cholesky || y != item.lu) mismatches.fetch_add(1);
+        }
+      }
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  EXPECT_EQ(mismatches.load(), 0);
 }
 
 }  // namespace
