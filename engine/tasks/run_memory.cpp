@@ -79,7 +79,9 @@ double lspi_bytes(double states, double kernels, double actions, double samples)
   const double dense = kDouble * (k * k + 2.0 * actions * kernels * kernels) +
                        2.0 * kDouble * samples / actions * kernels;
   // A compressed for the solver, the last iteration's A kept in the result, and
-  // the factorisation: CHOLMOD's L or UMFPACK's LU, dense in the worst case.
+  // the factorisation: CHOLMOD's L or UMFPACK's LU, dense in the worst case. The
+  // dense kind ([lspi] linear_algebra) holds less: the last A and LAPACK's factor
+  // dense (2 k^2 doubles) and A compressed once, at the end.
   const double sparse = 2.0 * kSparseEntry * k * k + 2.0 * kDouble * k * k;
   // Per state: Q (m values), the current and improved policies, on_samples; per
   // sample: the square-root weights and the grouping indices.
