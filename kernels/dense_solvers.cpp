@@ -7,6 +7,7 @@
 #include <string>
 
 #include "kernels/blas_runtime.hpp"
+#include "kernels/solve_checks.hpp"
 
 // LAPACK's Fortran entry points (reference LAPACK and OpenBLAS alike; 32-bit
 // integers as Debian builds them).
@@ -27,13 +28,7 @@ enum class Part { lower, full };
 
 bool check_input(const Eigen::MatrixXd& a, Part part, double ridge, const Eigen::VectorXd& b,
                  SolveReport& report) {
-  if (a.rows() != a.cols() || a.rows() != b.size()) {
-    std::ostringstream message;
-    message << "system shape mismatch: A is " << a.rows() << " x " << a.cols() << ", b has "
-            << b.size() << " entries";
-    report.message = message.str();
-    return false;
-  }
+  if (!solve_checks::shapes_match(a.rows(), a.cols(), b, report)) return false;
   if (a.rows() > std::numeric_limits<int>::max()) {
     report.message = "system too large for LAPACK's 32-bit indices";
     return false;
@@ -41,15 +36,7 @@ bool check_input(const Eigen::MatrixXd& a, Part part, double ridge, const Eigen:
   const bool finite = part == Part::full
                           ? a.allFinite()
                           : a.triangularView<Eigen::Lower>().toDenseMatrix().allFinite();
-  if (!finite || !std::isfinite(ridge)) {
-    report.message = "system matrix has non-finite entries";
-    return false;
-  }
-  if (!b.allFinite()) {
-    report.message = "right-hand side has non-finite entries";
-    return false;
-  }
-  return true;
+  return solve_checks::finite_system(finite && std::isfinite(ridge), b, report);
 }
 
 // factor = A + ridge I (the part the factorisation reads).
@@ -61,30 +48,6 @@ void load(const Eigen::MatrixXd& a, Part part, double ridge, Eigen::MatrixXd& fa
     factor.triangularView<Eigen::Lower>() = a.triangularView<Eigen::Lower>();
   }
   factor.diagonal().array() += ridge;
-}
-
-// The common tail: conditioning, finiteness and the residual; x is written only
-// when every check passes.
-template <class Apply>
-void finish(double rcond, double min_rcond, Eigen::VectorXd&& candidate, const Eigen::VectorXd& b,
-            const Apply& apply, SolveReport& report, Eigen::VectorXd& x) {
-  report.rcond = rcond;
-  if (!(report.rcond >= min_rcond)) {
-    std::ostringstream message;
-    message << "ill-conditioned system: reciprocal condition estimate " << report.rcond
-            << " < min_rcond " << min_rcond;
-    report.message = message.str();
-    return;
-  }
-  if (!candidate.allFinite()) {
-    report.message = "solution has non-finite entries";
-    return;
-  }
-  const double b_norm = b.norm();
-  const Eigen::VectorXd residual = apply(candidate) - b;
-  report.relative_residual = b_norm > 0.0 ? residual.norm() / b_norm : residual.norm();
-  report.ok = true;
-  x = std::move(candidate);
 }
 
 }  // namespace
@@ -122,7 +85,7 @@ SolveReport DenseSymmetricSolver::solve(const Eigen::MatrixXd& a, double ridge,
   Eigen::VectorXd candidate = b;
   const int one = 1;
   dpotrs_("L", &n, &one, factor_.data(), &lda, candidate.data(), &lda, &info);
-  finish(
+  solve_checks::accept_solution(
       rcond, settings_.min_rcond, std::move(candidate), b,
       [&](const Eigen::VectorXd& v) {
         Eigen::VectorXd product = a.selfadjointView<Eigen::Lower>() * v;
@@ -256,7 +219,7 @@ SolveReport DenseLuSolver::solve(const Eigen::MatrixXd& a, double ridge, const E
   }
   // UMFPACK_RCOND's estimate over the whole block triangular factor.
   const double rcond = n > 0 ? min_pivot / max_pivot : 0.0;
-  finish(
+  solve_checks::accept_solution(
       rcond, settings_.min_rcond, std::move(candidate), b,
       [&](const Eigen::VectorXd& v) {
         Eigen::VectorXd product = a * v;

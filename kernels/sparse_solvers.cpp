@@ -9,6 +9,7 @@
 #include <Eigen/UmfPackSupport>
 
 #include "kernels/blas_runtime.hpp"
+#include "kernels/solve_checks.hpp"
 
 namespace ggk::kernels {
 
@@ -84,24 +85,12 @@ struct Pattern {
 };
 
 bool check_input(const SparseColMatrix& a, const Eigen::VectorXd& b, SolveReport& report) {
-  if (a.rows() != a.cols() || a.rows() != b.size()) {
-    std::ostringstream message;
-    message << "system shape mismatch: A is " << a.rows() << " x " << a.cols() << ", b has "
-            << b.size() << " entries";
-    report.message = message.str();
-    return false;
+  if (!solve_checks::shapes_match(a.rows(), a.cols(), b, report)) return false;
+  bool finite = true;
+  for (Eigen::Index k = 0; k < a.nonZeros() && finite; ++k) {
+    finite = std::isfinite(a.valuePtr()[k]);
   }
-  for (Eigen::Index k = 0; k < a.nonZeros(); ++k) {
-    if (!std::isfinite(a.valuePtr()[k])) {
-      report.message = "system matrix has non-finite entries";
-      return false;
-    }
-  }
-  if (!b.allFinite()) {
-    report.message = "right-hand side has non-finite entries";
-    return false;
-  }
-  return true;
+  return solve_checks::finite_system(finite, b, report);
 }
 
 // The one solve path of both solvers: reuse the analysis while the pattern holds,
@@ -127,24 +116,9 @@ SolveReport solve_with(Factorization& factorization, Pattern& pattern, double mi
     pattern = Pattern{};  // the factor is unusable; analyse afresh next time
     return report;
   }
-  report.rcond = factorization.rcond();
-  if (!(report.rcond >= min_rcond)) {
-    std::ostringstream message;
-    message << "ill-conditioned system: reciprocal condition estimate " << report.rcond
-            << " < min_rcond " << min_rcond;
-    report.message = message.str();
-    return report;
-  }
-  const Eigen::VectorXd candidate = factorization.solve(b);
-  if (!candidate.allFinite()) {
-    report.message = "solution has non-finite entries";
-    return report;
-  }
-  const double b_norm = b.norm();
-  const Eigen::VectorXd residual = Factorization::apply(a, candidate) - b;
-  report.relative_residual = b_norm > 0.0 ? residual.norm() / b_norm : residual.norm();
-  report.ok = true;
-  x = candidate;
+  solve_checks::accept_solution(
+      factorization.rcond(), min_rcond, factorization.solve(b), b,
+      [&](const Eigen::VectorXd& v) { return Factorization::apply(a, v); }, report, x);
   return report;
 }
 
