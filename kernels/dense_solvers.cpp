@@ -33,9 +33,11 @@ bool check_input(const Eigen::MatrixXd& a, Part part, double ridge, const Eigen:
     report.message = "system too large for LAPACK's 32-bit indices";
     return false;
   }
-  const bool finite = part == Part::full
-                          ? a.allFinite()
-                          : a.triangularView<Eigen::Lower>().toDenseMatrix().allFinite();
+  bool finite = true;  // over the part read, column by column (no copy)
+  for (Eigen::Index col = 0; col < a.cols() && finite; ++col) {
+    finite =
+        part == Part::full ? a.col(col).allFinite() : a.col(col).tail(a.rows() - col).allFinite();
+  }
   return solve_checks::finite_system(finite && std::isfinite(ridge), b, report);
 }
 
