@@ -214,24 +214,16 @@ const bool kRegistered = [] {
   for (const auto& [name, solver] : solvers) {
     for (const kernels::LinearAlgebra kind :
          {kernels::LinearAlgebra::sparse, kernels::LinearAlgebra::dense}) {
-      benchmark::RegisterBenchmark(
-          (std::string("BM_FitLspi/solver:") + name + "/linear_algebra:" + kernels::to_string(kind))
-              .c_str(),
-          BM_FitLspi, solver, kind)
+      const std::string values =
+          std::string("/solver:") + name + "/linear_algebra:" + kernels::to_string(kind);
+      benchmark::RegisterBenchmark(("BM_FitLspi" + values).c_str(), BM_FitLspi, solver, kind)
           ->ArgNames({"p", "truncation_e6"})
           ->Args({100, 1000})
           ->Args({200, 0})
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
-    }
-  }
-  for (const auto& [name, solver] : solvers) {
-    for (const kernels::LinearAlgebra kind :
-         {kernels::LinearAlgebra::sparse, kernels::LinearAlgebra::dense}) {
-      benchmark::RegisterBenchmark((std::string("BM_SolveSystem/solver:") + name +
-                                    "/linear_algebra:" + kernels::to_string(kind))
-                                       .c_str(),
-                                   BM_SolveSystem, solver, kind)
+      benchmark::RegisterBenchmark(("BM_SolveSystem" + values).c_str(), BM_SolveSystem, solver,
+                                   kind)
           ->ArgNames({"p", "sigma_x10"})
           ->ArgsProduct({{100, 400}, {10, 20, 40, 80}})
           ->Unit(benchmark::kMillisecond)

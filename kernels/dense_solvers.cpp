@@ -41,14 +41,10 @@ bool check_input(const Eigen::MatrixXd& a, Part part, double ridge, const Eigen:
   return solve_checks::finite_system(finite && std::isfinite(ridge), b, report);
 }
 
-// factor = A + ridge I (the part the factorisation reads).
-void load(const Eigen::MatrixXd& a, Part part, double ridge, Eigen::MatrixXd& factor) {
+// factor's lower triangle = that of A + ridge I (what dpotrf reads).
+void load_lower(const Eigen::MatrixXd& a, double ridge, Eigen::MatrixXd& factor) {
   factor.resize(a.rows(), a.cols());
-  if (part == Part::full) {
-    factor = a;
-  } else {
-    factor.triangularView<Eigen::Lower>() = a.triangularView<Eigen::Lower>();
-  }
+  factor.triangularView<Eigen::Lower>() = a.triangularView<Eigen::Lower>();
   factor.diagonal().array() += ridge;
 }
 
@@ -62,7 +58,7 @@ SolveReport DenseSymmetricSolver::solve(const Eigen::MatrixXd& a, double ridge,
                                         const Eigen::VectorXd& b, Eigen::VectorXd& x) {
   SolveReport report;
   if (!check_input(a, Part::lower, ridge, b, report)) return report;
-  load(a, Part::lower, ridge, factor_);
+  load_lower(a, ridge, factor_);
   const int n = static_cast<int>(a.rows());
   const int lda = std::max(1, n);
   int info = 0;

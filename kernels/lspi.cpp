@@ -118,17 +118,20 @@ void compress_system(const Eigen::MatrixXd& dense, Triangle triangle, double rid
 
 // Whether the share of non-zeros among the entries the solver reads (the lower
 // triangle for BRM, all for LSTD-Q; the diagonal counts, as the ridge makes it
-// structurally present) reaches kDenseSystemDensity.
+// structurally present) reaches kDenseSystemDensity. Stops counting once it does:
+// a dense system (the usual case) is read only that far.
 bool dense_enough(const Eigen::MatrixXd& dense, Triangle triangle) {
-  const Eigen::Index k = dense.cols();
-  std::int64_t nonzeros = 0, read = 0;
-  for (Eigen::Index col = 0; col < k; ++col) {
-    const Eigen::Index first = triangle == Triangle::lower ? col : 0;
-    read += k - first;
-    for (Eigen::Index row = first; row < k; ++row) nonzeros += kept(dense, row, col) ? 1 : 0;
+  const auto k = static_cast<double>(dense.cols());
+  const double read = triangle == Triangle::lower ? k * (k + 1.0) / 2.0 : k * k;
+  const double needed = kDenseSystemDensity * read;
+  double nonzeros = 0.0;
+  for (Eigen::Index col = 0; col < dense.cols(); ++col) {
+    for (Eigen::Index row = triangle == Triangle::lower ? col : 0; row < dense.rows(); ++row) {
+      nonzeros += kept(dense, row, col) ? 1.0 : 0.0;
+    }
+    if (nonzeros >= needed) return true;
   }
-  return read > 0 &&
-         static_cast<double>(nonzeros) >= kDenseSystemDensity * static_cast<double>(read);
+  return false;
 }
 
 void check_options(std::int32_t num_actions, const LspiOptions& options) {
