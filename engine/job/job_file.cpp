@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <span>
 #include <sstream>
 #include <stdexcept>
@@ -18,6 +19,7 @@
 #include <toml++/toml.h>
 
 #include "engine/job/job_input.hpp"
+#include "engine/job/study.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/toml_table_reader.hpp"
 
@@ -247,6 +249,100 @@ void apply_override(toml::table& root, const std::string& text) {
   merge_table(root, snippet);
 }
 
+// A TOML value in ResolvedConfig's canonical form: tables inline with sorted
+// keys, arrays inline.
+std::string canonical_node(const toml::node& node) {
+  if (const auto* value = node.as_integer()) return canonical_integer(value->get());
+  if (const auto* value = node.as_floating_point()) return canonical_number(value->get());
+  if (const auto* value = node.as_string()) return canonical_string(value->get());
+  if (const auto* value = node.as_boolean()) return canonical_boolean(value->get());
+  if (const auto* array = node.as_array()) {
+    std::string text = "[";
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      text += (i > 0 ? ", " : "") + canonical_node(*array->get(i));
+    }
+    return text + "]";
+  }
+  if (const auto* table = node.as_table()) {
+    std::string text = "{";
+    bool first = true;
+    for (const auto& [key, value] : *table) {  // toml++ keeps keys sorted
+      text += (first ? " " : ", ") + canonical_string(key.str()) + " = " + canonical_node(value);
+      first = false;
+    }
+    return text + (first ? "}" : " }");
+  }
+  std::ostringstream text;  // dates and times: TOML's own form
+  node.visit([&text](const auto& value) { text << value; });
+  return text.str();
+}
+
+// Records the keys of `table` that no getter read (arrays of tables, say), as
+// they are written: the resolved configuration then holds every key of the job.
+void record_unread_keys(const toml::table& table, const std::string& prefix,
+                        ResolvedConfig& resolved) {
+  for (const auto& [key, value] : table) {
+    const std::string path =
+        prefix.empty() ? std::string(key.str()) : prefix + "." + std::string(key.str());
+    if (const auto* subtable = value.as_table()) {
+      record_unread_keys(*subtable, path, resolved);
+    } else if (!resolved.contains(path)) {
+      resolved.record(path, canonical_node(value), true);
+    }
+  }
+}
+
+// --sweep KEY=V1,V2,...: [sweep] "KEY" = [V1, V2, ...]. Each value is a TOML
+// value or, failing that, a bare string; KEY=[...] takes a TOML array as it is.
+void apply_sweep_option(toml::table& root, const std::string& text) {
+  const std::string source = "--sweep " + shortened(text);
+  const std::size_t equals = text.find('=');
+  if (equals == std::string::npos || equals == 0 || equals + 1 == text.size()) {
+    throw JobError(source, {}, "",
+                   "expected KEY=V1,V2,..., e.g. --sweep kernels=10,20 or "
+                   "--sweep khepera.motion.turn_deg=15,30,45");
+  }
+  const std::string key = text.substr(0, equals);
+  const std::string values = text.substr(equals + 1);
+  const auto parse_value = [&](const std::string& value) -> toml::table {
+    try {
+      return toml::parse("x = " + value, std::string_view(source));
+    } catch (const toml::parse_error&) {
+      try {
+        return toml::parse("x = " + toml_literal(value), std::string_view(source));
+      } catch (const toml::parse_error& error) {
+        throw JobError(source, {}, "",
+                       "cannot read the value " + single_quoted(shortened(value)) + ": " +
+                           std::string(error.description()));
+      }
+    }
+  };
+  toml::array array;
+  if (values.front() == '[') {
+    toml::table parsed = parse_value(values);
+    const toml::array* given = parsed.get_as<toml::array>("x");
+    if (given == nullptr) throw JobError(source, {}, "", "expected KEY=[V1, V2, ...]");
+    array = *given;
+  } else {
+    std::size_t begin = 0;
+    while (begin <= values.size()) {
+      const std::size_t comma = std::min(values.find(',', begin), values.size());
+      const std::string value = values.substr(begin, comma - begin);
+      if (value.empty()) throw JobError(source, {}, "", "an empty value between commas");
+      toml::table parsed = parse_value(value);
+      array.push_back(*parsed.get("x"));
+      begin = comma + 1;
+    }
+  }
+  toml::node* sweep = root.get("sweep");
+  if (sweep == nullptr) {
+    root.insert("sweep", toml::table{});
+    sweep = root.get("sweep");
+  }
+  if (!sweep->is_table()) throw JobError(source, {}, "sweep", "the job's sweep is not a table");
+  sweep->as_table()->insert_or_assign(key, std::move(array));
+}
+
 }  // namespace
 
 std::optional<std::string> results_extension_problem(const std::filesystem::path& file) {
@@ -257,21 +353,42 @@ std::optional<std::string> results_extension_problem(const std::filesystem::path
          "`ggk info --csv FILE.h5` prints the summary)";
 }
 
-JobSpec parse_job(std::string toml_text, const std::filesystem::path& source_file,
-                  std::span<const TaskTable> tasks, const JobLoadOptions& options) {
-  const std::string file = source_file.string();
+toml::table parse_job_toml(std::string_view toml_text, const std::string& file,
+                           const JobLoadOptions& options) {
   toml::table root;
   try {
-    root = toml::parse(std::string_view(toml_text), std::string_view(file));
+    root = toml::parse(toml_text, std::string_view(file));
   } catch (const toml::parse_error& error) {
     throw JobError(file, location_of(error.source()), "",
                    "TOML syntax error: " + std::string(error.description()));
   }
   for (const std::string& override_text : options.overrides) apply_override(root, override_text);
+  for (const std::string& sweep_text : options.sweeps) apply_sweep_option(root, sweep_text);
+  return root;
+}
+
+std::string job_source_text(std::string toml_text, const toml::table& root, const std::string& file,
+                            const JobLoadOptions& options) {
+  if (options.overrides.empty() && options.sweeps.empty()) return toml_text;
+  // What runs is the job the options make: recorded, and compared by --resume.
+  std::ostringstream text;
+  text << "# " << file << " with";
+  for (const std::string& override_text : options.overrides) text << " --set " << override_text;
+  for (const std::string& sweep_text : options.sweeps) text << " --sweep " << sweep_text;
+  text << "\n" << toml::toml_formatter(root) << "\n";
+  return text.str();
+}
+
+JobSpec parse_job_table(const toml::table& root, std::string source_text,
+                        const std::filesystem::path& source_file, std::span<const TaskTable> tasks,
+                        const JobLoadOptions& options) {
+  const std::string file = source_file.string();
   const std::vector<std::string_view> keys = top_level_keys(tasks);
   const std::span<const std::string_view> task_names(keys.begin() + kCommonTopLevelKeys.size(),
                                                      keys.end());
-  const TomlTableReader job(root, "", file, keys);
+  TomlTableReader job(root, "", file, keys);
+  const auto resolved = std::make_shared<ResolvedConfig>();
+  job.record_into(resolved);
 
   JobSpec spec;
   spec.name = job.string("name");
@@ -304,20 +421,25 @@ JobSpec parse_job(std::string toml_text, const std::filesystem::path& source_fil
   spec.lspi = parse_lspi(job);
   spec.output = parse_output(job, spec.name, options);
   spec.source_file = source_file;
+  record_unread_keys(root, "", *resolved);
+  spec.resolved = *resolved;
   spec.overrides = options.overrides;
-  if (options.overrides.empty()) {
-    spec.source_text = std::move(toml_text);
-  } else {
-    // What runs is the job the overrides make: recorded, and compared by --resume.
-    std::ostringstream text;
-    text << "# " << file << " with";
-    for (const std::string& override_text : options.overrides) {
-      text << " --set " << override_text;
-    }
-    text << "\n" << toml::toml_formatter(root) << "\n";
-    spec.source_text = text.str();
-  }
+  spec.sweeps = options.sweeps;
+  spec.source_text = std::move(source_text);
   return spec;
+}
+
+JobSpec parse_job(std::string toml_text, const std::filesystem::path& source_file,
+                  std::span<const TaskTable> tasks, const JobLoadOptions& options) {
+  const std::string file = source_file.string();
+  const toml::table root = parse_job_toml(toml_text, file, options);
+  if (const auto axes = study_axis_keys(root); !axes.empty()) {
+    throw JobError(file, {}, "sweep." + axes.front(),
+                   "this job is a study (its [sweep] varies " + single_quoted(axes.front()) +
+                       "), which this command does not take");
+  }
+  std::string source_text = job_source_text(std::move(toml_text), root, file, options);
+  return parse_job_table(root, std::move(source_text), source_file, tasks, options);
 }
 
 JobSpec load_job_file(const std::filesystem::path& path, std::span<const TaskTable> tasks,

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <toml++/toml.h>
+
 #include "engine/job/job_error.hpp"
 #include "engine/job/job_spec.hpp"
 #include "engine/job/task_table.hpp"
@@ -34,12 +36,28 @@ struct JobLoadOptions {
   // file's table, in order, before validation; a bad value is reported naming
   // the option ("--set runs=0: runs: expected ...") instead of a line.
   std::vector<std::string> overrides;
+  // "KEY=V1,V2,..." (ggk run/validate --sweep): the axis `"KEY" = [V1, V2, ...]` of
+  // [sweep] (study.hpp), after the overrides; each value a TOML value or a bare
+  // string, or KEY=[...] a TOML array.
+  std::vector<std::string> sweeps;
 };
 
 // Why `file` cannot name a results file, or nothing: results are HDF5 files,
 // named *.h5 or *.hdf5 (a results.csv would be an HDF5 file in disguise; CSV
 // comes from `ggk info --csv`).
 std::optional<std::string> results_extension_problem(const std::filesystem::path& file);
+
+// The job file's TOML with the options' --set and --sweep applied. Throws JobError.
+toml::table parse_job_toml(std::string_view toml_text, const std::string& file,
+                           const JobLoadOptions& options);
+// The job text recorded with the results: `toml_text` itself, or, with
+// --set / --sweep, the job they make under a comment naming them.
+std::string job_source_text(std::string toml_text, const toml::table& root, const std::string& file,
+                            const JobLoadOptions& options);
+// Validates one job's TOML (no study axes left in [sweep]). Throws JobError.
+JobSpec parse_job_table(const toml::table& root, std::string source_text,
+                        const std::filesystem::path& source_file, std::span<const TaskTable> tasks,
+                        const JobLoadOptions& options);
 
 // Reads and validates the job file at `path`. Throws JobError.
 JobSpec load_job_file(const std::filesystem::path& path, std::span<const TaskTable> tasks,

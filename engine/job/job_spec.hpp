@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "engine/job/job_input.hpp"
+#include "engine/job/resolved_config.hpp"
 #include "kernels/lspi.hpp"
 #include "kernels/state_action_basis.hpp"
 
@@ -78,7 +79,11 @@ struct JobSpec {
   // they make, as TOML, under a comment naming the file and the overrides.
   std::string source_text;
   std::vector<std::string> overrides;  // `ggk run --set KEY=VALUE` arguments, in order
+  std::vector<std::string> sweeps;     // `ggk run --sweep KEY=V1,V2` arguments, in order
   std::vector<JobInput> inputs;        // the files it names (map, arena), read when loaded
+  // Every key with the value used, defaults filled in (resolved_config.hpp): what
+  // --resume compares, so that respellings and defaults never count.
+  ResolvedConfig resolved;
 };
 
 // The job's task configuration as the type its task's table parser returns.

@@ -14,7 +14,7 @@ std::vector<SweepPoint> expand_sweep(const JobSpec& job) {
         for (const kernels::LspiSolver solver : axes.solver) {
           for (const double lambda : axes.lambda) {
             const auto index = static_cast<std::int32_t>(points.size());
-            points.push_back({index, basis, kernel_count, sigma, solver, lambda});
+            points.push_back({index, basis, kernel_count, sigma, solver, lambda, 0, job.lspi});
           }
         }
       }
@@ -24,16 +24,18 @@ std::vector<SweepPoint> expand_sweep(const JobSpec& job) {
 }
 
 kernels::LspiOptions lspi_options(const JobSpec& job, const SweepPoint& point) {
+  (void)job;
+  const LspiSettings& lspi = point.lspi;
   kernels::LspiOptions options;
-  options.gamma = job.lspi.gamma;
+  options.gamma = lspi.gamma;
   options.ridge = point.lambda;
-  options.max_iterations = job.lspi.max_iterations;
+  options.max_iterations = lspi.max_iterations;
   options.solver = point.solver;
-  options.solver_settings.min_rcond = job.lspi.min_rcond;
-  options.stopping = job.lspi.stopping;
-  options.weight_tolerance = job.lspi.weight_tolerance;
-  options.keep_iterates = job.lspi.evaluate_iterations;
-  options.linear_algebra = job.lspi.linear_algebra;
+  options.solver_settings.min_rcond = lspi.min_rcond;
+  options.stopping = lspi.stopping;
+  options.weight_tolerance = lspi.weight_tolerance;
+  options.keep_iterates = lspi.evaluate_iterations;
+  options.linear_algebra = lspi.linear_algebra;
   return options;
 }
 

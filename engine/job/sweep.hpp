@@ -25,12 +25,17 @@ struct SweepPoint {
   double sigma = 0.0;
   kernels::LspiSolver solver = kernels::LspiSolver::brm;
   double lambda = 0.0;
+  // The fit-level study keys beyond the five axes (study.hpp: `lspi.*`): which of
+  // the run configuration's fit variants, and the LSPI settings it makes (the
+  // job's [lspi] for a job without such axes).
+  std::int32_t variant = 0;
+  LspiSettings lspi;
 };
 
 std::vector<SweepPoint> expand_sweep(const JobSpec& job);
 
-// The LSPI settings of one fit: the job's [lspi] table with the point's solver
-// and ridge (lambda).
+// The LSPI settings of one fit: the point's [lspi] settings (the job's, or its fit
+// variant's) with the point's solver and ridge (lambda).
 kernels::LspiOptions lspi_options(const JobSpec& job, const SweepPoint& point);
 
 }  // namespace ggk::engine

@@ -18,11 +18,14 @@ constexpr std::int64_t kInt64Min = std::numeric_limits<std::int64_t>::min();
 // Shortest text that reads back as the same double; "2.0" rather than "2", so
 // that a float is told apart from an integer in messages.
 std::string format_number(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  std::string text(buffer, result.ptr);
-  if (text.find_first_of(".eninf") == std::string::npos) text += ".0";
-  return text;
+  return canonical_number(value);
+}
+
+template <class T, class Format>
+std::string canonical_list(const std::vector<T>& values, Format format) {
+  std::string text = "[";
+  for (std::size_t i = 0; i < values.size(); ++i) text += (i > 0 ? ", " : "") + format(values[i]);
+  return text + "]";
 }
 
 std::string quoted_list(std::span<const std::string_view> words) {
@@ -207,14 +210,22 @@ std::optional<TomlTableReader> TomlTableReader::subtable(
   if (node == nullptr) return std::nullopt;
   const toml::table* table = node->as_table();
   if (table == nullptr) fail(key, "expected a table, got " + describe_value(*node));
-  return TomlTableReader(*table, key_path(key), file_, known_keys, true);
+  TomlTableReader reader(*table, key_path(key), file_, known_keys, true);
+  reader.resolved_ = resolved_;
+  return reader;
 }
 
 TomlTableReader TomlTableReader::subtable_or_empty(
     std::string_view key, std::span<const std::string_view> known_keys) const {
   if (auto table = subtable(key, known_keys)) return std::move(*table);
   static const toml::table empty;
-  return TomlTableReader(empty, key_path(key), file_, known_keys, false);
+  TomlTableReader reader(empty, key_path(key), file_, known_keys, false);
+  reader.resolved_ = resolved_;
+  return reader;
+}
+
+void TomlTableReader::note(std::string_view key, std::string value) const {
+  if (resolved_) resolved_->record(key_path(key), std::move(value), has(key));
 }
 
 const toml::node& TomlTableReader::required(std::string_view key) const {
@@ -225,60 +236,80 @@ const toml::node& TomlTableReader::required(std::string_view key) const {
 
 std::string TomlTableReader::string(std::string_view key,
                                     std::optional<std::string> fallback) const {
-  if (!has(key) && fallback) return std::move(*fallback);
-  const toml::node& node = required(key);
-  if (const auto* text = node.as_string()) return text->get();
-  fail(key, "expected a string, got " + describe_value(node));
+  std::string result = [&]() -> std::string {
+    if (!has(key) && fallback) return std::move(*fallback);
+    const toml::node& node = required(key);
+    if (const auto* text = node.as_string()) return text->get();
+    fail(key, "expected a string, got " + describe_value(node));
+  }();
+  note(key, canonical_string(result));
+  return result;
 }
 
 std::string TomlTableReader::choice(std::string_view key, std::span<const std::string_view> choices,
                                     std::optional<std::string> fallback) const {
-  if (!has(key) && fallback) return std::move(*fallback);
-  const toml::node& node = required(key);
-  const auto* text = node.as_string();
-  if (text == nullptr) {
-    fail(key, "expected " + choice_expectation(choices, false) + ", got " + describe_value(node));
-  }
-  const std::string& value = text->get();
-  if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
-    fail(key, "expected " + choice_expectation(choices, false) + ", got " + describe_value(node) +
-                  suggestion(value, choices));
-  }
-  return value;
+  std::string result = [&]() -> std::string {
+    if (!has(key) && fallback) return std::move(*fallback);
+    const toml::node& node = required(key);
+    const auto* text = node.as_string();
+    if (text == nullptr) {
+      fail(key, "expected " + choice_expectation(choices, false) + ", got " + describe_value(node));
+    }
+    const std::string& value = text->get();
+    if (std::find(choices.begin(), choices.end(), value) == choices.end()) {
+      fail(key, "expected " + choice_expectation(choices, false) + ", got " + describe_value(node) +
+                    suggestion(value, choices));
+    }
+    return value;
+  }();
+  note(key, canonical_string(result));
+  return result;
 }
 
 std::int64_t TomlTableReader::integer(std::string_view key, IntegerRange range,
                                       std::optional<std::int64_t> fallback) const {
-  if (!has(key) && fallback) return *fallback;
-  const toml::node& node = required(key);
-  const auto* value = node.as_integer();
-  if (value == nullptr) {
-    fail(key, "expected " + integer_expectation(range, false) + ", got " + describe_value(node));
-  }
-  const std::int64_t v = value->get();
-  if (v < range.min || v > range.max) {
-    fail(key, "expected " + integer_expectation(range, false, v > range.max) + ", got " +
-                  describe_value(node));
-  }
-  return v;
+  std::int64_t result = [&]() -> std::int64_t {
+    if (!has(key) && fallback) return *fallback;
+    const toml::node& node = required(key);
+    const auto* value = node.as_integer();
+    if (value == nullptr) {
+      fail(key, "expected " + integer_expectation(range, false) + ", got " + describe_value(node));
+    }
+    const std::int64_t v = value->get();
+    if (v < range.min || v > range.max) {
+      fail(key, "expected " + integer_expectation(range, false, v > range.max) + ", got " +
+                    describe_value(node));
+    }
+    return v;
+  }();
+  note(key, canonical_integer(result));
+  return result;
 }
 
 double TomlTableReader::number(std::string_view key, NumberRange range,
                                std::optional<double> fallback) const {
-  if (!has(key) && fallback) return *fallback;
-  const toml::node& node = required(key);
-  const std::optional<double> value = number_value(node);
-  if (!value || !range.contains(*value)) {
-    fail(key, "expected " + number_expectation(range, false) + ", got " + describe_value(node));
-  }
-  return *value;
+  double result = [&]() -> double {
+    if (!has(key) && fallback) return *fallback;
+    const toml::node& node = required(key);
+    const std::optional<double> value = number_value(node);
+    if (!value || !range.contains(*value)) {
+      fail(key, "expected " + number_expectation(range, false) + ", got " + describe_value(node));
+    }
+    return *value;
+  }();
+  note(key, canonical_number(result));
+  return result;
 }
 
 bool TomlTableReader::boolean(std::string_view key, std::optional<bool> fallback) const {
-  if (!has(key) && fallback) return *fallback;
-  const toml::node& node = required(key);
-  if (const auto* value = node.as_boolean()) return value->get();
-  fail(key, "expected true or false, got " + describe_value(node));
+  bool result = [&]() -> bool {
+    if (!has(key) && fallback) return *fallback;
+    const toml::node& node = required(key);
+    if (const auto* value = node.as_boolean()) return value->get();
+    fail(key, "expected true or false, got " + describe_value(node));
+  }();
+  note(key, canonical_boolean(result));
+  return result;
 }
 
 const toml::array& TomlTableReader::set_array(std::string_view key, const toml::node& node,
@@ -317,59 +348,71 @@ void reject_duplicates(const TomlTableReader& reader, std::string_view key,
 std::vector<std::int64_t> TomlTableReader::integer_set(
     std::string_view key, IntegerRange range,
     std::optional<std::vector<std::int64_t>> fallback) const {
-  if (!has(key) && fallback) return std::move(*fallback);
-  const toml::array& array = set_array(key, required(key), integer_expectation(range, true));
-  std::vector<std::int64_t> values;
-  for (const toml::node& element : array) {
-    const auto* value = element.as_integer();
-    if (value == nullptr || value->get() < range.min || value->get() > range.max) {
-      const bool above_max = value != nullptr && value->get() > range.max;
-      fail_at(element, key,
-              "expected an array of " + integer_expectation(range, true, above_max) + ", got " +
-                  describe_value(element));
+  std::vector<std::int64_t> result = [&]() -> std::vector<std::int64_t> {
+    if (!has(key) && fallback) return std::move(*fallback);
+    const toml::array& array = set_array(key, required(key), integer_expectation(range, true));
+    std::vector<std::int64_t> values;
+    for (const toml::node& element : array) {
+      const auto* value = element.as_integer();
+      if (value == nullptr || value->get() < range.min || value->get() > range.max) {
+        const bool above_max = value != nullptr && value->get() > range.max;
+        fail_at(element, key,
+                "expected an array of " + integer_expectation(range, true, above_max) + ", got " +
+                    describe_value(element));
+      }
+      values.push_back(value->get());
     }
-    values.push_back(value->get());
-  }
-  reject_duplicates(*this, key, array, values);
-  return values;
+    reject_duplicates(*this, key, array, values);
+    return values;
+  }();
+  note(key, canonical_list(result, canonical_integer));
+  return result;
 }
 
 std::vector<double> TomlTableReader::number_set(std::string_view key, NumberRange range,
                                                 std::optional<std::vector<double>> fallback) const {
-  if (!has(key) && fallback) return std::move(*fallback);
-  const toml::array& array = set_array(key, required(key), number_expectation(range, true));
-  std::vector<double> values;
-  for (const toml::node& element : array) {
-    const std::optional<double> value = number_value(element);
-    if (!value || !range.contains(*value)) {
-      fail_at(element, key,
-              "expected an array of " + number_expectation(range, true) + ", got " +
-                  describe_value(element));
+  std::vector<double> result = [&]() -> std::vector<double> {
+    if (!has(key) && fallback) return std::move(*fallback);
+    const toml::array& array = set_array(key, required(key), number_expectation(range, true));
+    std::vector<double> values;
+    for (const toml::node& element : array) {
+      const std::optional<double> value = number_value(element);
+      if (!value || !range.contains(*value)) {
+        fail_at(element, key,
+                "expected an array of " + number_expectation(range, true) + ", got " +
+                    describe_value(element));
+      }
+      values.push_back(*value);
     }
-    values.push_back(*value);
-  }
-  reject_duplicates(*this, key, array, values);
-  return values;
+    reject_duplicates(*this, key, array, values);
+    return values;
+  }();
+  note(key, canonical_list(result, canonical_number));
+  return result;
 }
 
 std::vector<std::string> TomlTableReader::choice_set(
     std::string_view key, std::span<const std::string_view> choices,
     std::optional<std::vector<std::string>> fallback) const {
-  if (!has(key) && fallback) return std::move(*fallback);
-  const toml::array& array = set_array(key, required(key), choice_expectation(choices, true));
-  std::vector<std::string> values;
-  for (const toml::node& element : array) {
-    const auto* text = element.as_string();
-    if (text == nullptr ||
-        std::find(choices.begin(), choices.end(), text->get()) == choices.end()) {
-      fail_at(element, key,
-              "expected an array of " + choice_expectation(choices, true) + ", got " +
-                  describe_value(element) + (text ? suggestion(text->get(), choices) : ""));
+  std::vector<std::string> result = [&]() -> std::vector<std::string> {
+    if (!has(key) && fallback) return std::move(*fallback);
+    const toml::array& array = set_array(key, required(key), choice_expectation(choices, true));
+    std::vector<std::string> values;
+    for (const toml::node& element : array) {
+      const auto* text = element.as_string();
+      if (text == nullptr ||
+          std::find(choices.begin(), choices.end(), text->get()) == choices.end()) {
+        fail_at(element, key,
+                "expected an array of " + choice_expectation(choices, true) + ", got " +
+                    describe_value(element) + (text ? suggestion(text->get(), choices) : ""));
+      }
+      values.push_back(text->get());
     }
-    values.push_back(text->get());
-  }
-  reject_duplicates(*this, key, array, values);
-  return values;
+    reject_duplicates(*this, key, array, values);
+    return values;
+  }();
+  note(key, canonical_list(result, [](const std::string& v) { return canonical_string(v); }));
+  return result;
 }
 
 }  // namespace ggk::engine

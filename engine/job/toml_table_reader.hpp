@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -22,6 +23,7 @@
 #include <toml++/toml.h>
 
 #include "engine/job/job_error.hpp"
+#include "engine/job/resolved_config.hpp"
 
 namespace ggk::engine {
 
@@ -104,6 +106,11 @@ class TomlTableReader {
   // Throws JobError at the table itself, naming the table.
   [[noreturn]] void fail_table(std::string detail) const;
 
+  // From now on, every typed getter of this reader and of the sub-table readers
+  // it makes records the key and the value it returns (defaults included) in
+  // `resolved` (resolved_config.hpp).
+  void record_into(std::shared_ptr<ResolvedConfig> resolved) { resolved_ = std::move(resolved); }
+
   const std::string& file() const { return file_; }
   const std::string& table_path() const { return table_path_; }
   // Dotted path of a key of this table ("lspi.gamma").
@@ -116,12 +123,15 @@ class TomlTableReader {
   const toml::node& required(std::string_view key) const;
   const toml::array& set_array(std::string_view key, const toml::node& node,
                                std::string_view expected) const;
+  // Records key = value (canonical text) when recording; given = the key is present.
+  void note(std::string_view key, std::string value) const;
 
   const toml::table* table_;
   std::string table_path_;
   std::string file_;
   std::span<const std::string_view> known_keys_;
   bool present_;  // false for an absent table read as empty: it has no location
+  std::shared_ptr<ResolvedConfig> resolved_;  // where getters record, or null
 };
 
 }  // namespace ggk::engine

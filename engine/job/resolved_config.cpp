@@ -1,0 +1,165 @@
+#include "engine/job/resolved_config.hpp"
+
+#include <charconv>
+#include <cstdio>
+
+namespace ggk::engine {
+
+std::string canonical_integer(std::int64_t value) {
+  return std::to_string(value);
+}
+
+std::string canonical_number(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  std::string text(buffer, result.ptr);
+  if (text.find_first_of(".eninf") == std::string::npos) text += ".0";
+  return text;
+}
+
+std::string canonical_string(std::string_view value) {
+  std::string quoted = "\"";
+  for (const char c : value) {
+    switch (c) {
+      case '"':
+        quoted += "\\\"";
+        break;
+      case '\\':
+        quoted += "\\\\";
+        break;
+      case '\n':
+        quoted += "\\n";
+        break;
+      case '\t':
+        quoted += "\\t";
+        break;
+      case '\r':
+        quoted += "\\r";
+        break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+          char escape[8];
+          std::snprintf(escape, sizeof escape, "\\u%04X", static_cast<unsigned char>(c));
+          quoted += escape;
+        } else {
+          quoted += c;
+        }
+    }
+  }
+  return quoted + "\"";
+}
+
+std::string canonical_boolean(bool value) {
+  return value ? "true" : "false";
+}
+
+void ResolvedConfig::record(const std::string& key, std::string value, bool given) {
+  values_.try_emplace(key, Entry{std::move(value), given});
+}
+
+std::optional<std::string> ResolvedConfig::value(const std::string& key) const {
+  const auto it = values_.find(key);
+  if (it == values_.end()) return std::nullopt;
+  return it->second.value;
+}
+
+std::set<std::string> ResolvedConfig::given_keys() const {
+  std::set<std::string> keys;
+  for (const auto& [key, entry] : values_) {
+    if (entry.given) keys.insert(key);
+  }
+  return keys;
+}
+
+std::string ResolvedConfig::text() const {
+  std::string text;
+  for (const auto& [key, entry] : values_) {
+    text += canonical_string(key) + " = " + entry.value + "\n";
+  }
+  return text;
+}
+
+std::optional<ResolvedConfig> ResolvedConfig::from_text(std::string_view text) {
+  ResolvedConfig config;
+  while (!text.empty()) {
+    const std::size_t end = text.find('\n');
+    if (end == std::string_view::npos) return std::nullopt;  // every line ends in '\n'
+    const std::string_view line = text.substr(0, end);
+    text.remove_prefix(end + 1);
+    // "key" = value, the key in canonical_string's quotes.
+    if (line.size() < 2 || line[0] != '"') return std::nullopt;
+    std::string key;
+    std::size_t i = 1;
+    for (; i < line.size() && line[i] != '"'; ++i) {
+      if (line[i] != '\\') {
+        key += line[i];
+        continue;
+      }
+      if (++i >= line.size()) return std::nullopt;
+      switch (line[i]) {
+        case 'n':
+          key += '\n';
+          break;
+        case 't':
+          key += '\t';
+          break;
+        case 'r':
+          key += '\r';
+          break;
+        case '"':
+        case '\\':
+          key += line[i];
+          break;
+        default:
+          return std::nullopt;  // keys with other escapes are not written by text()
+      }
+    }
+    if (i >= line.size() || line.substr(i + 1, 3) != " = ") return std::nullopt;
+    const std::string_view value = line.substr(i + 4);
+    if (value.empty() || config.contains(key)) return std::nullopt;
+    config.values_.emplace(key, Entry{std::string(value), true});
+  }
+  return config;
+}
+
+std::optional<std::string> ResolvedConfig::difference(const ResolvedConfig& other,
+                                                      std::string_view this_label,
+                                                      std::string_view other_label,
+                                                      const std::set<std::string>& ignored) const {
+  constexpr std::size_t kShown = 60;
+  const auto shown = [](const std::string& value) {
+    return value.size() > kShown ? value.substr(0, kShown) + "..." : value;
+  };
+  // Walk both sorted maps together: the first key (in sorted order) that differs.
+  auto a = values_.begin();
+  auto b = other.values_.begin();
+  while (a != values_.end() || b != other.values_.end()) {
+    if (a != values_.end() && ignored.count(a->first) > 0) {
+      ++a;
+      continue;
+    }
+    if (b != other.values_.end() && ignored.count(b->first) > 0) {
+      ++b;
+      continue;
+    }
+    if (b == other.values_.end() || (a != values_.end() && a->first < b->first)) {
+      return a->first + ": only in " + std::string(this_label);
+    }
+    if (a == values_.end() || b->first < a->first) {
+      return b->first + ": only in " + std::string(other_label);
+    }
+    if (a->second.value != b->second.value) {
+      return a->first + ": " + shown(a->second.value) + " in " + std::string(this_label) + ", " +
+             shown(b->second.value) + " in " + std::string(other_label);
+    }
+    ++a;
+    ++b;
+  }
+  return std::nullopt;
+}
+
+bool ResolvedConfig::operator==(const ResolvedConfig& other) const {
+  return !difference(other, "", "").has_value();
+}
+
+}  // namespace ggk::engine

@@ -1,0 +1,365 @@
+#include "engine/job/study.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <tuple>
+#include <utility>
+
+#include "engine/job/job_file.hpp"
+#include "engine/job/job_input.hpp"
+#include "engine/job/sweep.hpp"
+
+namespace ggk::engine {
+namespace {
+
+bool is_builtin_axis(std::string_view key) {
+  return std::find(kSweepTableKeys.begin(), kSweepTableKeys.end(), key) != kSweepTableKeys.end();
+}
+
+// An axis as written: its keys and, per key, the array of values in the file.
+struct WrittenAxis {
+  std::vector<std::string> keys;
+  std::vector<const toml::array*> values;  // per key, equal lengths
+  toml::source_position where;             // for file order
+};
+
+// The study axes of [sweep] (dotted keys and [[sweep.zip]] blocks), in file order.
+std::vector<WrittenAxis> written_axes(const toml::table& root, const std::string& file) {
+  std::vector<WrittenAxis> axes;
+  const toml::table* sweep = root.get_as<toml::table>("sweep");
+  if (sweep == nullptr) return axes;
+  const auto fail_at_sweep = [&](const toml::node& node, const std::string& key,
+                                 std::string detail) {
+    throw error_at(file, node.source(), "sweep." + key, std::move(detail));
+  };
+  std::vector<std::string> seen;
+  const auto add_key = [&](const std::string& key, const toml::node& node) {
+    if (const std::string reason = forbidden_axis_reason(key); !reason.empty()) {
+      fail_at_sweep(node, "\"" + key + "\"", reason);
+    }
+    if (std::find(seen.begin(), seen.end(), key) != seen.end()) {
+      fail_at_sweep(node, "\"" + key + "\"", "this key is already an axis of the study");
+    }
+    seen.push_back(key);
+  };
+  const auto checked_values = [&](const std::string& key,
+                                  const toml::node& node) -> const toml::array* {
+    const toml::array* array = node.as_array();
+    if (array == nullptr || array->empty()) {
+      fail_at_sweep(node, "\"" + key + "\"",
+                    "a study axis is a non-empty array of values, got " + describe_value(node) +
+                        (node.is_array() ? "" : " (write [" + describe_value(node) + "])"));
+    }
+    for (const toml::node& element : *array) {
+      if (!(element.is_number() || element.is_string() || element.is_boolean())) {
+        fail_at_sweep(element, "\"" + key + "\"",
+                      "a study axis takes scalar values (numbers, strings, booleans), got " +
+                          describe_value(element));
+      }
+    }
+    return array;
+  };
+  for (const auto& [key, node] : *sweep) {
+    const std::string name(key.str());
+    if (name == "zip") {
+      const toml::array* blocks = node.as_array();
+      if (blocks == nullptr || !blocks->is_array_of_tables()) {
+        fail_at_sweep(node, "zip",
+                      "expected [[sweep.zip]] blocks (tables of keys that vary together), got " +
+                          describe_value(node));
+      }
+      for (const toml::node& block_node : *blocks) {
+        const toml::table& block = *block_node.as_table();
+        WrittenAxis axis;
+        axis.where = block.source().begin;
+        for (const auto& [zip_key, zip_node] : block) {
+          const std::string zip_name(zip_key.str());
+          if (is_builtin_axis(zip_name)) {
+            fail_at_sweep(zip_node, "zip." + zip_name,
+                          "the built-in axes (basis, kernels, sigma, solver, lambda) combine as "
+                          "a product and cannot be zipped; zip other keys");
+          }
+          add_key(zip_name, zip_node);
+          axis.keys.push_back(zip_name);
+          axis.values.push_back(checked_values(zip_name, zip_node));
+        }
+        if (axis.keys.empty()) {
+          throw error_at(file, block.source(), "sweep.zip", "an empty [[sweep.zip]] block");
+        }
+        for (std::size_t k = 1; k < axis.keys.size(); ++k) {
+          if (axis.values[k]->size() != axis.values[0]->size()) {
+            fail_at_sweep(*block.get(axis.keys[k]), "zip." + axis.keys[k],
+                          "the keys of a [[sweep.zip]] block vary together and need as many "
+                          "values each: " +
+                              std::to_string(axis.values[k]->size()) + " here, " +
+                              std::to_string(axis.values[0]->size()) + " for " + axis.keys[0]);
+          }
+        }
+        axes.push_back(std::move(axis));
+      }
+      continue;
+    }
+    if (name.find('.') == std::string::npos) {
+      // A built-in axis, a top-level key that cannot vary, or a misspelling
+      // (which the [sweep] reader reports with a suggestion).
+      if (const std::string reason = forbidden_axis_reason(name); !reason.empty()) {
+        fail_at_sweep(node, name, reason);
+      }
+      continue;
+    }
+    add_key(name, node);
+    axes.push_back({{name}, {checked_values(name, node)}, key.source().begin});
+  }
+  std::stable_sort(axes.begin(), axes.end(), [](const WrittenAxis& a, const WrittenAxis& b) {
+    return std::tie(a.where.line, a.where.column) < std::tie(b.where.line, b.where.column);
+  });
+  return axes;
+}
+
+// Sets the dotted `key` of `root` to a copy of `value` (which keeps its place in
+// the file, so errors about it point at the axis).
+void assign(toml::table& root, const std::string& key, const toml::node& value,
+            const std::string& file) {
+  toml::table* table = &root;
+  std::size_t begin = 0;
+  for (;;) {
+    const std::size_t dot = key.find('.', begin);
+    const std::string part = key.substr(begin, dot == std::string::npos ? dot : dot - begin);
+    if (part.empty()) {
+      throw error_at(file, value.source(), "sweep.\"" + key + "\"",
+                     "not a key of the job (an empty part between dots)");
+    }
+    if (dot == std::string::npos) {
+      value.visit([&](const auto& v) { table->insert_or_assign(part, v); });
+      return;
+    }
+    toml::node* next = table->get(part);
+    if (next == nullptr) {
+      table->insert(part, toml::table{});
+      next = table->get(part);
+    }
+    if (!next->is_table()) {
+      throw error_at(file, value.source(), "sweep.\"" + key + "\"",
+                     "not a key of the job: " + key.substr(0, dot) + " is not a table");
+    }
+    table = next->as_table();
+    begin = dot + 1;
+  }
+}
+
+// Indices of every combination of the axes' values, the last axis fastest.
+std::vector<std::vector<std::size_t>> combinations(const std::vector<std::size_t>& sizes) {
+  std::vector<std::vector<std::size_t>> all(1);
+  for (const std::size_t size : sizes) {
+    std::vector<std::vector<std::size_t>> next;
+    next.reserve(all.size() * size);
+    for (const auto& prefix : all) {
+      for (std::size_t i = 0; i < size; ++i) {
+        next.push_back(prefix);
+        next.back().push_back(i);
+      }
+    }
+    all = std::move(next);
+  }
+  return all;
+}
+
+struct Expansion {
+  const std::vector<WrittenAxis>& written;
+  std::vector<StudyAxis>& axes;
+  const std::filesystem::path& source_file;
+  std::span<const TaskTable> tasks;
+  const JobLoadOptions& options;
+  const std::string& source_text;
+
+  // The job at one point: `base` with the listed axes at the listed values.
+  JobSpec parse_point(const toml::table& base, const std::vector<std::size_t>& axis_ids,
+                      const std::vector<std::size_t>& value_ids,
+                      std::vector<AxisAssignment>& assignments) const {
+    const std::string file = source_file.string();
+    toml::table root = base;
+    std::string description;
+    for (std::size_t a = 0; a < axis_ids.size(); ++a) {
+      const WrittenAxis& axis = written[axis_ids[a]];
+      for (std::size_t k = 0; k < axis.keys.size(); ++k) {
+        const toml::node& value = *axis.values[k]->get(value_ids[a]);
+        assign(root, axis.keys[k], value, file);
+        description +=
+            (description.empty() ? "" : ", ") + axis.keys[k] + " = " + describe_value(value);
+      }
+    }
+    JobSpec job;
+    try {
+      job = parse_job_table(root, source_text, source_file, tasks, options);
+    } catch (const JobError& e) {
+      throw JobError(e.file(), {e.line(), e.column()}, e.key_path(),
+                     e.detail() + " (at the study point " + description + ")");
+    }
+    for (std::size_t a = 0; a < axis_ids.size(); ++a) {
+      const WrittenAxis& axis = written[axis_ids[a]];
+      StudyAxis& study_axis = axes[axis_ids[a]];
+      for (std::size_t k = 0; k < axis.keys.size(); ++k) {
+        const std::optional<std::string> value = job.resolved.value(axis.keys[k]);
+        if (!value) {
+          throw error_at(file, axis.values[k]->get(value_ids[a])->source(),
+                         "sweep.\"" + axis.keys[k] + "\"", "not a key this job reads");
+        }
+        study_axis.values[value_ids[a]][k] = *value;
+        assignments.push_back({axis.keys[k], *value});
+      }
+    }
+    return job;
+  }
+};
+
+// Two points of one axis set that resolve alike: the study would compute one
+// configuration twice.
+template <class Items>
+void reject_repeats(const Items& items, const std::string& file, const std::string& what) {
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      bool same = items[i].assignments.size() == items[j].assignments.size();
+      for (std::size_t k = 0; same && k < items[i].assignments.size(); ++k) {
+        same = items[i].assignments[k].value == items[j].assignments[k].value;
+      }
+      if (!same) continue;
+      std::string values;
+      for (const AxisAssignment& a : items[i].assignments) {
+        values += (values.empty() ? "" : ", ") + a.key + " = " + a.value;
+      }
+      throw JobError(file, {}, "sweep",
+                     what + " " + values +
+                         " appears twice (values of an axis must be distinct "
+                         "as numbers: 30 and 30.0 are one value)");
+    }
+  }
+}
+
+}  // namespace
+
+std::string forbidden_axis_reason(const std::string& key) {
+  if (key == "name" || key == "task") {
+    return "'" + key + "' names the job: a study is one job, so it cannot vary";
+  }
+  if (key == "runs") {
+    return "'runs' is the number of runs of every configuration: set it with runs = N";
+  }
+  if (key == "seed") {
+    return "'seed' cannot vary: every configuration draws run r from the same streams "
+           "(common random numbers), which is what pairs them; study seeds with more runs";
+  }
+  if (key.rfind("output.", 0) == 0 || key == "output") {
+    return "where results go is not an axis: a study is one results file";
+  }
+  if (key.rfind("sweep.", 0) == 0) {
+    return "write the built-in axes as [sweep] keys (kernels = [...]), not as dotted keys";
+  }
+  return "";
+}
+
+StageLevel stage_of(const std::string& key) {
+  if (is_builtin_axis(key)) return StageLevel::kFit;
+  if (key.rfind("lspi.", 0) == 0 && key != "lspi.fold_duplicates") return StageLevel::kFit;
+  return StageLevel::kRun;
+}
+
+std::vector<std::string> study_axis_keys(const toml::table& root) {
+  std::vector<std::string> keys;
+  for (const WrittenAxis& axis : written_axes(root, "")) {
+    keys.insert(keys.end(), axis.keys.begin(), axis.keys.end());
+  }
+  return keys;
+}
+
+Study parse_study(std::string toml_text, const std::filesystem::path& source_file,
+                  std::span<const TaskTable> tasks, const JobLoadOptions& options) {
+  const std::string file = source_file.string();
+  const toml::table root = parse_job_toml(toml_text, file, options);
+  const std::string source_text = job_source_text(std::move(toml_text), root, file, options);
+  const std::vector<WrittenAxis> written = written_axes(root, file);
+
+  // The job without its study axes: every point starts from it.
+  toml::table base = root;
+  if (toml::table* sweep = base.get_as<toml::table>("sweep")) {
+    for (const WrittenAxis& axis : written) {
+      for (const std::string& key : axis.keys) sweep->erase(key);
+    }
+    sweep->erase("zip");
+  }
+
+  Study study;
+  std::vector<std::size_t> run_axes, fit_axes, run_sizes, fit_sizes;
+  for (std::size_t a = 0; a < written.size(); ++a) {
+    StudyAxis axis;
+    axis.keys = written[a].keys;
+    axis.values.assign(written[a].values[0]->size(),
+                       std::vector<std::string>(written[a].keys.size()));
+    axis.level = std::all_of(axis.keys.begin(), axis.keys.end(),
+                             [](const std::string& k) { return stage_of(k) == StageLevel::kFit; })
+                     ? StageLevel::kFit
+                     : StageLevel::kRun;
+    (axis.level == StageLevel::kRun ? run_axes : fit_axes).push_back(a);
+    (axis.level == StageLevel::kRun ? run_sizes : fit_sizes).push_back(axis.values.size());
+    study.axes.push_back(std::move(axis));
+  }
+
+  const Expansion expansion{written, study.axes, source_file, tasks, options, source_text};
+  const auto run_points = combinations(run_sizes);
+  const auto fit_points = combinations(fit_sizes);
+  for (const auto& run_point : run_points) {
+    RunConfiguration configuration;
+    configuration.index = static_cast<std::int32_t>(study.configurations.size());
+    configuration.job = expansion.parse_point(base, run_axes, run_point, configuration.assignments);
+    if (!run_axes.empty()) {
+      char name[32];
+      std::snprintf(name, sizeof name, "config_%03d", configuration.index);
+      configuration.group_name = name;
+    }
+    if (fit_axes.empty()) {
+      configuration.variants.push_back({{}, configuration.job.lspi});
+    } else {
+      // The run-level values first, then the fit-level ones over them.
+      std::vector<std::size_t> axis_ids = run_axes;
+      axis_ids.insert(axis_ids.end(), fit_axes.begin(), fit_axes.end());
+      for (const auto& fit_point : fit_points) {
+        std::vector<std::size_t> value_ids = run_point;
+        value_ids.insert(value_ids.end(), fit_point.begin(), fit_point.end());
+        std::vector<AxisAssignment> assignments;
+        const JobSpec job = expansion.parse_point(base, axis_ids, value_ids, assignments);
+        assignments.erase(
+            assignments.begin(),
+            assignments.begin() + static_cast<std::ptrdiff_t>(configuration.assignments.size()));
+        configuration.variants.push_back({std::move(assignments), job.lspi});
+      }
+      reject_repeats(configuration.variants, file, "the fit-level point");
+    }
+    study.configurations.push_back(std::move(configuration));
+  }
+  reject_repeats(study.configurations, file, "the run configuration");
+  return study;
+}
+
+Study load_study(const std::filesystem::path& path, std::span<const TaskTable> tasks,
+                 const JobLoadOptions& options) {
+  RegularFileText file = read_regular_file(path);
+  if (!file.problem.empty()) {
+    throw JobError(path.string(), {}, "", "cannot read the job file: it " + file.problem);
+  }
+  return parse_study(std::move(file.text), path, tasks, options);
+}
+
+std::vector<SweepPoint> expand_points(const RunConfiguration& configuration) {
+  std::vector<SweepPoint> points;
+  for (const SweepPoint& base : expand_sweep(configuration.job)) {
+    for (std::size_t v = 0; v < configuration.variants.size(); ++v) {
+      SweepPoint point = base;
+      point.index = static_cast<std::int32_t>(points.size());
+      point.variant = static_cast<std::int32_t>(v);
+      point.lspi = configuration.variants[v].lspi;
+      points.push_back(point);
+    }
+  }
+  return points;
+}
+
+}  // namespace ggk::engine

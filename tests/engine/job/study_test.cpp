@@ -1,0 +1,197 @@
+#include "engine/job/study.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "engine/tasks/task_list.hpp"
+
+namespace ggk::engine {
+namespace {
+
+std::filesystem::path jobs_dir() {
+  const char* source = std::getenv("GGK_SOURCE_DIR");
+  return std::filesystem::path(source != nullptr ? source : ".") / "jobs";
+}
+
+// A maze job file (four-rooms map) with `extra` appended to its [sweep] table.
+std::string maze_job(const std::string& sweep_extra, const std::string& tail = "") {
+  return "name = \"study\"\ntask = \"maze\"\nruns = 3\nseed = 7\n"
+         "[sweep]\nbasis = [\"ggk\"]\nkernels = [4, 8]\nsigma = [10.0]\n" +
+         sweep_extra + "\n[maze]\nmap_file = \"maps/four-rooms.txt\"\nseries = 4\n" + tail;
+}
+
+JobLoadOptions no_output_check() {
+  JobLoadOptions options;
+  options.check_output = false;
+  return options;
+}
+
+Study study_of(const std::string& text, JobLoadOptions options = no_output_check()) {
+  return parse_study(text, jobs_dir() / "study.toml", task_tables(), options);
+}
+
+std::string error_of(const std::string& text, JobLoadOptions options = no_output_check()) {
+  try {
+    study_of(text, std::move(options));
+  } catch (const JobError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Study, APlainJobIsOneConfigurationWithoutAGroup) {
+  const Study study = study_of(maze_job(""));
+  EXPECT_FALSE(study.has_axes());
+  ASSERT_EQ(study.configurations.size(), 1u);
+  EXPECT_EQ(study.configurations[0].group_name, "");
+  ASSERT_EQ(study.configurations[0].variants.size(), 1u);
+  EXPECT_TRUE(study.configurations[0].variants[0].assignments.empty());
+  EXPECT_EQ(expand_points(study.configurations[0]).size(), 2u);
+}
+
+TEST(Study, RunLevelAxesMakeConfigurationsInProductOrder) {
+  const Study study = study_of(maze_job("\"maze.slip\" = [0.0, 0.1]\n\"maze.series\" = [4, 6, 8]"));
+  ASSERT_EQ(study.axes.size(), 2u);
+  EXPECT_EQ(study.axes[0].keys, std::vector<std::string>{"maze.slip"});
+  EXPECT_EQ(study.axes[0].level, StageLevel::kRun);
+  ASSERT_EQ(study.configurations.size(), 6u);
+  // The last axis varies fastest; each configuration's job holds its values.
+  const double slips[] = {0.0, 0.0, 0.0, 0.1, 0.1, 0.1};
+  const char* series[] = {"4", "6", "8", "4", "6", "8"};
+  for (std::size_t c = 0; c < 6; ++c) {
+    const RunConfiguration& configuration = study.configurations[c];
+    EXPECT_EQ(configuration.index, static_cast<std::int32_t>(c));
+    EXPECT_EQ(configuration.group_name, "config_00" + std::to_string(c));
+    ASSERT_EQ(configuration.assignments.size(), 2u);
+    EXPECT_EQ(configuration.assignments[0].key, "maze.slip");
+    EXPECT_EQ(configuration.assignments[0].value, slips[c] == 0.0 ? "0.0" : "0.1");
+    EXPECT_EQ(configuration.assignments[1].value, series[c]);
+    EXPECT_EQ(configuration.job.resolved.value("maze.series"), series[c]);
+    // Everything but the axes is the job's: same runs, seed, sweep.
+    EXPECT_EQ(configuration.job.runs, 3);
+    EXPECT_EQ(configuration.job.seed, 7u);
+    EXPECT_EQ(configuration.job.sweep.kernels, (std::vector<std::int32_t>{4, 8}));
+  }
+}
+
+TEST(Study, AConfigurationIsTheSingleJobWithThatValue) {
+  // The 0.1-slip configuration of the study resolves exactly as the plain job
+  // with slip = 0.1 written in its [maze] table.
+  const Study study = study_of(maze_job("\"maze.slip\" = [0.0, 0.1]"));
+  const Study single = study_of(maze_job("", "slip = 0.1\n"));
+  const RunConfiguration& configuration = study.configurations[1];
+  EXPECT_EQ(configuration.job.resolved.difference(single.job().resolved, "study", "single"),
+            std::nullopt);
+}
+
+TEST(Study, FitLevelAxesAreVariantsOfOneConfiguration) {
+  const Study study =
+      study_of(maze_job("\"lspi.max_iterations\" = [5, 20]\n\"lspi.stopping\" = [\"policy\", "
+                        "\"weights\"]"));
+  ASSERT_EQ(study.configurations.size(), 1u);
+  EXPECT_EQ(study.axes[0].level, StageLevel::kFit);
+  const RunConfiguration& configuration = study.configurations[0];
+  EXPECT_EQ(configuration.group_name, "");  // no run-level axis: runs where they always are
+  ASSERT_EQ(configuration.variants.size(), 4u);
+  EXPECT_EQ(configuration.variants[0].lspi.max_iterations, 5);
+  EXPECT_EQ(configuration.variants[1].lspi.stopping, kernels::LspiStopping::weights_converged);
+  EXPECT_EQ(configuration.variants[2].lspi.max_iterations, 20);
+  EXPECT_EQ(configuration.variants[3].assignments.size(), 2u);
+  // Two kernel counts x four variants, the variant fastest.
+  const std::vector<SweepPoint> points = expand_points(configuration);
+  ASSERT_EQ(points.size(), 8u);
+  EXPECT_EQ(points[0].kernels, 4);
+  EXPECT_EQ(points[3].variant, 3);
+  EXPECT_EQ(points[4].kernels, 8);
+  EXPECT_EQ(points[4].variant, 0);
+  EXPECT_EQ(lspi_options(configuration.job, points[2]).max_iterations, 20);
+  EXPECT_EQ(lspi_options(configuration.job, points[0]).max_iterations, 5);
+}
+
+TEST(Study, FoldDuplicatesIsRunLevel) {
+  EXPECT_EQ(stage_of("lspi.fold_duplicates"), StageLevel::kRun);
+  EXPECT_EQ(stage_of("lspi.gamma"), StageLevel::kFit);
+  EXPECT_EQ(stage_of("basis.truncation"), StageLevel::kRun);
+  EXPECT_EQ(stage_of("khepera.motion.turn_deg"), StageLevel::kRun);
+  EXPECT_EQ(stage_of("kernels"), StageLevel::kFit);
+}
+
+TEST(Study, ZipVariesKeysTogether) {
+  const Study study =
+      study_of(maze_job("\"maze.series\" = [4, 6]\n[[sweep.zip]]\n\"maze.slip\" = [0.0, 0.2, 0.3]\n"
+                        "\"maze.steps_per_series\" = [100, 200, 300]"));
+  ASSERT_EQ(study.axes.size(), 2u);
+  EXPECT_EQ(study.axes[1].keys, (std::vector<std::string>{"maze.slip", "maze.steps_per_series"}));
+  ASSERT_EQ(study.configurations.size(), 6u);  // 2 x 3, not 2 x 3 x 3
+  const RunConfiguration& last = study.configurations[5];
+  EXPECT_EQ(last.job.resolved.value("maze.series"), "6");
+  EXPECT_EQ(last.job.resolved.value("maze.slip"), "0.3");
+  EXPECT_EQ(last.job.resolved.value("maze.steps_per_series"), "300");
+}
+
+TEST(Study, ValuesCompareByMeaning) {
+  // 0 and 0.0 of a float key are one value: refused as a repeat.
+  EXPECT_NE(error_of(maze_job("\"maze.slip\" = [0, 0.0]")).find("appears twice"),
+            std::string::npos);
+  // An integer written for a float key reads as the float.
+  const Study study = study_of(maze_job("\"maze.slip\" = [0, 0.5]"));
+  EXPECT_EQ(study.configurations[0].assignments[0].value, "0.0");
+}
+
+TEST(Study, ErrorsNameTheAxisAndTheValue) {
+  const std::string bad_value = error_of(maze_job("\"maze.slip\" = [0.0, 1.5]"));
+  EXPECT_NE(bad_value.find("study.toml:"), std::string::npos) << bad_value;
+  EXPECT_NE(bad_value.find("slip"), std::string::npos) << bad_value;
+  EXPECT_NE(bad_value.find("at the study point maze.slip = 1.5"), std::string::npos) << bad_value;
+
+  const std::string misspelt = error_of(maze_job("\"maze.slipp\" = [0.0]"));
+  EXPECT_NE(misspelt.find("did you mean 'slip'"), std::string::npos) << misspelt;
+
+  EXPECT_NE(error_of(maze_job("\"runs\" = [1, 2]")).find("runs = N"), std::string::npos);
+  EXPECT_NE(error_of(maze_job("\"output.file\" = [\"a.h5\"]")).find("one results file"),
+            std::string::npos);
+  EXPECT_NE(error_of(maze_job("\"seed\" = [1, 2]")).find("common random numbers"),
+            std::string::npos);
+  EXPECT_NE(error_of(maze_job("\"sweep.kernels\" = [1]")).find("built-in axes"), std::string::npos);
+  EXPECT_NE(error_of(maze_job("\"maze.slip\" = [[0.1]]")).find("scalar values"), std::string::npos);
+  EXPECT_NE(error_of(maze_job("\"maze.slip\" = []")).find("non-empty array"), std::string::npos);
+  EXPECT_NE(error_of(maze_job("\"maze.slip\" = [0.1]\n[[sweep.zip]]\n\"maze.slip\" = [0.2]"))
+                .find("already an axis"),
+            std::string::npos);
+  EXPECT_NE(error_of(maze_job("[[sweep.zip]]\n\"maze.slip\" = [0.1, 0.2]\n\"maze.series\" = [4]"))
+                .find("as many values"),
+            std::string::npos);
+  EXPECT_NE(error_of(maze_job("\"runs.x\" = [1]")).find("not a table"), std::string::npos);
+}
+
+TEST(Study, SweepOptionAddsAnAxis) {
+  JobLoadOptions options = no_output_check();
+  options.sweeps = {"maze.slip=0.0,0.1,0.2", "kernels=[4, 16]"};
+  const Study study = study_of(maze_job(""), options);
+  ASSERT_EQ(study.configurations.size(), 3u);
+  EXPECT_EQ(study.configurations[2].job.resolved.value("maze.slip"), "0.2");
+  EXPECT_EQ(study.job().sweep.kernels, (std::vector<std::int32_t>{4, 16}));
+  // Bare words are strings.
+  options.sweeps = {"lspi.stopping=policy,weights"};
+  EXPECT_EQ(study_of(maze_job(""), options).configurations[0].variants.size(), 2u);
+  options.sweeps = {"maze.slip"};
+  EXPECT_NE(error_of(maze_job(""), options).find("--sweep maze.slip: expected KEY=V1,V2"),
+            std::string::npos);
+  options.sweeps = {"maze.slip=0.1,,0.2"};
+  EXPECT_NE(error_of(maze_job(""), options).find("empty value"), std::string::npos);
+}
+
+TEST(Study, ParseJobRefusesAStudy) {
+  try {
+    parse_job(maze_job("\"maze.slip\" = [0.0, 0.1]"), jobs_dir() / "study.toml", task_tables(),
+              no_output_check());
+    FAIL() << "a study was taken as a single job";
+  } catch (const JobError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a study"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace ggk::engine
