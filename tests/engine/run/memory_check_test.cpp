@@ -71,12 +71,6 @@ JobSpec parse(const std::string& text) {
   return parse_unchecked(substitute(text, "DIR", "."), "big.toml");
 }
 
-TEST(MemoryCheck, EveryTaskEstimatesItsRuns) {
-  for (const TaskDefinition& task : registered_tasks()) {
-    EXPECT_NE(task.estimate_run_bytes, nullptr) << task.table.name;
-  }
-}
-
 TEST(MemoryCheck, RunsAtOnceFollowTheThreadsAndTheRuns) {
   const JobSpec job = parse(maze_job("8", "5", "1000"));
   const JobMemoryEstimate one = estimate_job_memory(job, 1, 8);
