@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -19,11 +20,14 @@
 #include "engine/tasks/task_list.hpp"
 #include "sims/maze/maze.hpp"
 #include "sims/maze/maze_config.hpp"
+#include "support/files.hpp"
+#include "support/job_text.hpp"
 
 namespace ggk::engine {
 namespace {
 
 namespace fs = std::filesystem;
+using namespace test_support;
 
 constexpr const char* kSmallMap =
     "#######\n"
@@ -32,24 +36,13 @@ constexpr const char* kSmallMap =
     "#....G#\n"
     "#######\n";
 
-// Replaces every "%KEY%" in `text` by `value`.
-std::string substitute(std::string text, const std::string& key, const std::string& value) {
-  const std::string pattern = "%" + key + "%";
-  for (std::size_t at = text.find(pattern); at != std::string::npos;
-       at = text.find(pattern, at + value.size())) {
-    text.replace(at, pattern.size(), value);
-  }
-  return text;
-}
-
 // A scratch folder per test: maps/small.txt, maps/four-rooms.txt (the default
 // map file), maps/bad.txt, an output folder out/ and a regular file plain.txt.
 class JobFileTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "ggk-job-file-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
+    scratch_ = std::make_unique<ScratchDir>("ggk-job-file");
+    dir_ = scratch_->path();
     fs::create_directories(dir_ / "maps");
     fs::create_directories(dir_ / "out");
     write("maps/small.txt", kSmallMap);
@@ -57,20 +50,13 @@ class JobFileTest : public ::testing::Test {
     write("maps/bad.txt", "#####\n#.x.#\n#..G#\n#####\n");
     write("plain.txt", "not a folder\n");
   }
-  void TearDown() override {
-    std::error_code ignored;
-    fs::permissions(dir_ / "locked", fs::perms::owner_all, ignored);
-    fs::remove_all(dir_, ignored);
-  }
 
   fs::path write(const std::string& name, const std::string& text) const {
-    const fs::path path = dir_ / name;
-    std::ofstream(path, std::ios::binary) << text;
-    return path;
+    return write_file(dir_ / name, text);
   }
   // Writes a job file with %DIR% replaced by the scratch folder.
   fs::path write_job(const std::string& name, const std::string& text) const {
-    return write(name, substitute(text, "DIR", dir_.string()));
+    return test_support::write_job(dir_, name, text);
   }
   // The JobError message the job raises, or a failure if it loads.
   std::string error_of(const std::string& text, const std::string& name = "bad.toml") const {
@@ -84,6 +70,7 @@ class JobFileTest : public ::testing::Test {
     return {};
   }
 
+  std::unique_ptr<ScratchDir> scratch_;
   fs::path dir_;
 };
 
@@ -316,35 +303,7 @@ aaa = 2
   EXPECT_NE(message.find("bad.toml:2:1: zzz: unknown key"), std::string::npos) << message;
 }
 
-// Header every malformed job below starts from: lines 1-9.
-constexpr const char* kHeader = R"(name = "bad"
-task = "maze"
-runs = 2
-seed = 1
-[sweep]
-kernels = [4, 8]
-sigma = [2.0]
-[output]
-file = "%DIR%/out/bad.h5"
-)";
-
-// The header with line `line` (1-based) replaced by `text`.
-std::string header_with(int line, const std::string& text) {
-  std::string header = kHeader;
-  std::size_t begin = 0;
-  for (int i = 1; i < line; ++i) begin = header.find('\n', begin) + 1;
-  const std::size_t end = header.find('\n', begin);
-  return header.replace(begin, end - begin, text);
-}
-
-// The header without line `line`.
-std::string header_without(int line) {
-  std::string header = kHeader;
-  std::size_t begin = 0;
-  for (int i = 1; i < line; ++i) begin = header.find('\n', begin) + 1;
-  return header.erase(begin, header.find('\n', begin) + 1 - begin);
-}
-
+// Every malformed job below starts from kBadJobHeader (support/job_text.hpp), lines 1-9.
 struct MalformedJob {
   std::string what;                   // the case, for failure messages
   std::string text;                   // the job file; %DIR% is the scratch folder
@@ -352,7 +311,7 @@ struct MalformedJob {
 };
 
 std::vector<MalformedJob> malformed_jobs() {
-  const std::string h = kHeader;
+  const std::string h = kBadJobHeader;
   return {
       {"syntax error", h + "[lspi]\ngamma = 0.9 0.8\n", {"bad.toml:11:13:", "TOML syntax error"}},
       {"duplicate TOML key",
@@ -570,14 +529,9 @@ std::string toy_job(const std::string& task, const std::string& tables) {
   return "name = \"toy\"\ntask = \"" + task + "\"\nruns = 1\nseed = 0\n[sweep]\nkernels = [2]\n" +
          "sigma = [1]\n" + tables;
 }
-JobLoadOptions without_output_check() {
-  JobLoadOptions options;
-  options.check_output = false;
-  return options;
-}
 std::string toy_error(const std::string& text, std::span<const TaskTable> tasks) {
   try {
-    parse_job(text, "toy.toml", tasks, without_output_check());
+    parse_job(text, "toy.toml", tasks, no_output_check());
   } catch (const JobError& error) {
     return error.what();
   }
@@ -587,7 +541,7 @@ std::string toy_error(const std::string& text, std::span<const TaskTable> tasks)
 
 TEST(TaskTables, AnUnregisteredTaskReadsItsOwnTable) {
   const JobSpec job =
-      parse_job(toy_job("toy", "[toy]\nsize = 7\n"), "toy.toml", kToyTasks, without_output_check());
+      parse_job(toy_job("toy", "[toy]\nsize = 7\n"), "toy.toml", kToyTasks, no_output_check());
   EXPECT_EQ(job.task, "toy");
   EXPECT_EQ(task_config_as<ToyConfig>(job).size, 7);
   EXPECT_THROW(task_config_as<sims::maze::MazeConfig>(job), std::logic_error);
@@ -616,7 +570,7 @@ TEST(TaskTables, OnlyTheGivenTasksAreKnown) {
 
 TEST(TaskTables, ATaskNamedLikeACommonKeyIsAProgrammerError) {
   const std::array<TaskTable, 1> clash = {{{"sweep", parse_toy_table}}};
-  EXPECT_THROW(parse_job(toy_job("sweep", ""), "toy.toml", clash, without_output_check()),
+  EXPECT_THROW(parse_job(toy_job("sweep", ""), "toy.toml", clash, no_output_check()),
                std::logic_error);
 }
 

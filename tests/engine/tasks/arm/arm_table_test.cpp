@@ -18,19 +18,15 @@
 #include "engine/tasks/seeds.hpp"
 #include "engine/tasks/task_list.hpp"
 #include "sims/arm/arm.hpp"
+#include "support/job_text.hpp"
 
 namespace ggk::engine {
 namespace {
 
 namespace fs = std::filesystem;
+using namespace test_support;
 using sims::arm::Arm;
 using sims::arm::ArmConfig;
-
-JobLoadOptions no_output_check() {
-  JobLoadOptions options;
-  options.check_output = false;
-  return options;
-}
 
 // A valid arm job; line numbers below refer to it.
 constexpr const char* kArmJob = R"(name = "arm-test"
@@ -58,11 +54,7 @@ radius = 0.3
 
 // kArmJob with line `line` (1-based) replaced by `text` (which may hold several lines).
 std::string arm_job_with(int line, const std::string& text) {
-  std::string job = kArmJob;
-  std::size_t begin = 0;
-  for (int i = 1; i < line; ++i) begin = job.find('\n', begin) + 1;
-  const std::size_t end = job.find('\n', begin);
-  return job.replace(begin, end - begin, text);
+  return with_line(kArmJob, line, text);
 }
 
 // `job` cut before its first [[arm.obstacles]].

@@ -1,15 +1,13 @@
 // The [khepera] table of job files (inline arenas and arena files, every key and
 // its default, malformed tables reported at file:line and key), the shipped
-// Khepera job files and the default arena, and a tiny Khepera job run end to end.
+// Khepera job files and the default arena.
 
 #include "engine/tasks/khepera/khepera_table.hpp"
 
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -17,77 +15,25 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
 
 #include "engine/job/job_file.hpp"
-#include "engine/run/job_runner.hpp"
 #include "engine/tasks/khepera/khepera_task.hpp"
+#include "engine/tasks/khepera/khepera_test_job.hpp"
 #include "engine/tasks/task_list.hpp"
 #include "kernels/graph_diagnostics.hpp"
 #include "kernels/shortest_paths.hpp"
 #include "sims/khepera/khepera.hpp"
+#include "support/job_text.hpp"
 
 namespace ggk::engine {
 namespace {
 
 namespace fs = std::filesystem;
 namespace khepera = sims::khepera;
-
-JobLoadOptions no_output_check() {
-  JobLoadOptions options;
-  options.check_output = false;
-  return options;
-}
-
-// A valid Khepera job with an inline arena; line numbers below refer to it.
-constexpr const char* kKheperaJob = R"(name = "khepera-test"
-task = "khepera"
-runs = 1
-seed = 7
-[sweep]
-kernels = [5]
-sigma = [1000.0]
-[khepera]
-series = 10
-steps_per_series = 50
-test_episodes = 2
-[khepera.som]
-rows = 4
-cols = 5
-[khepera.arena]
-min = [0.0, 0.0]
-max = [40, 40.0]
-start = { x = 10.0, y = 10.0, heading_deg = 90.0 }
-[[khepera.arena.obstacles]]
-kind = "rectangle"
-min = [20.0, 20.0]
-max = [30.0, 30.0]
-[[khepera.arena.obstacles]]
-kind = "disc"
-center = [10.0, 30.0]
-radius = 3.0
-[[khepera.arena.obstacles]]
-kind = "segment"
-a = [40.0, 10.0]
-b = [30.0, 10.0]
-[[khepera.arena.obstacles]]
-kind = "rotated_rectangle"
-center = [5.0, 20.0]
-size = [6.0, 2.0]
-angle_deg = 45.0
-)";
-
-// `text` with line `line` (1-based) replaced by `replacement` (which may hold
-// several lines, or none).
-std::string replace_line(std::string text, int line, const std::string& replacement) {
-  std::size_t begin = 0;
-  for (int i = 1; i < line; ++i) begin = text.find('\n', begin) + 1;
-  const std::size_t end = text.find('\n', begin);
-  return text.replace(begin, end - begin, replacement);
-}
+using namespace test_support;
 
 std::string job_with(int line, const std::string& replacement) {
-  return replace_line(kKheperaJob, line, replacement);
+  return with_line(kKheperaJob, line, replacement);
 }
 
 // kKheperaJob cut before its [khepera.arena] table (so without an arena).
@@ -190,13 +136,13 @@ start = { x = 10, y = 10, heading_deg = 0 }
 }
 
 TEST(KheperaTable, ReadsEveryKey) {
-  const std::string job = replace_line(replace_line(kKheperaJob, 14, R"(cols = 5
+  const std::string job = with_line(with_line(kKheperaJob, 14, R"(cols = 5
 epochs = 12
 initial_radius = 3.0
 final_radius = 0.5
 radius_schedule = "linear"
 initialization = "random_samples")"),
-                                       11, R"(test_episodes = 4
+                                    11, R"(test_episodes = 4
 test_max_steps = 80
 [khepera.robot]
 radius = 3
@@ -245,7 +191,7 @@ collision = -5)");
   EXPECT_EQ(c.som.initialization, kernels::SomInitialization::random_samples);
 
   const KheperaTaskConfig derived =
-      khepera_config(parse_job(replace_line(job_with(13, "grid_from_samples = true"), 14, ""),
+      khepera_config(parse_job(with_line(job_with(13, "grid_from_samples = true"), 14, ""),
                                "derived.toml", task_tables(), no_output_check()));
   EXPECT_TRUE(derived.som_grid_from_samples);
 }
@@ -285,7 +231,7 @@ std::vector<MalformedKhepera> malformed_tables() {
        job_with(11, "test_episodes = 0"),
        {"bad.toml:11:1: [khepera] test_episodes: expected an integer >= 1, got 0"}},
       {"too many readings",
-       replace_line(job_with(9, "series = 100000"), 10, "steps_per_series = 100000"),
+       with_line(job_with(9, "series = 100000"), 10, "steps_per_series = 100000"),
        {"bad.toml:10:1: [khepera] steps_per_series:", "10000100000 readings per run"}},
       {"no arena",
        without_arena(),
@@ -302,7 +248,7 @@ std::vector<MalformedKhepera> malformed_tables() {
        {"bad.toml:12:1: [khepera] arena_file: arena file 'nope.toml' (nope.toml) does not "
         "exist"}},
       {"arena not a table",
-       replace_line(without_arena(), 11, "test_episodes = 2\narena = 5"),
+       with_line(without_arena(), 11, "test_episodes = 2\narena = 5"),
        {"bad.toml:12:1: [khepera] arena: expected a table, got 5"}},
       {"arena box inverted",
        job_with(17, "max = [40.0, -1.0]"),
@@ -378,11 +324,11 @@ std::vector<MalformedKhepera> malformed_tables() {
        job_with(13, "rows = 0"),
        {"bad.toml:13:1: [khepera.som] rows: expected an integer >= 1, got 0"}},
       {"som larger than the samples",
-       replace_line(job_with(13, "rows = 30"), 14, "cols = 30"),
+       with_line(job_with(13, "rows = 30"), 14, "cols = 30"),
        {"bad.toml:13:1: [khepera.som] rows: rows x cols = 30 x 30 = 900 units, more than the 510 "
         "readings per run"}},
       {"default som larger than the samples",
-       replace_line(replace_line(job_with(12, ""), 13, ""), 14, ""),
+       with_line(with_line(job_with(12, ""), 13, ""), 14, ""),
        {"bad.toml:10:1: [khepera] steps_per_series: rows x cols = 24 x 29 = 696 units",
         "set [khepera.som] rows and cols, or grid_from_samples = true"}},
       {"som key misspelt",
@@ -677,141 +623,6 @@ TEST_F(ShippedKheperaJob, PaperQuickAndCiJobs) {
   EXPECT_EQ(widths.sweep.sigma, (std::vector<double>{250.0, 500.0, 1000.0, 2000.0}));
   EXPECT_EQ(khepera_config(widths).simulator.motion, t.simulator.motion);
   EXPECT_TRUE(khepera_config(widths).simulator.arena.obstacles == p.simulator.arena.obstacles);
-}
-
-// ---------------------------------------------------------------------------
-// A tiny Khepera job end to end.
-
-bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() &&
-         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
-}
-
-std::vector<double> values_of(const Eigen::VectorXd& v) {
-  return {v.data(), v.data() + v.size()};
-}
-
-RunRecord run_with_threads(const JobSpec& job, std::int32_t run, std::size_t threads) {
-  const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  return compute_run(job, run);
-}
-
-// The graph diagnostics (issue 11) recomputed from the stored run, and the
-// arena arrays of Fig. 4(a) against the simulator.
-TEST(KheperaJob, DiagnosticsAndArenaMatchTheStoredRun) {
-  const JobSpec job = parse_job(std::string(kKheperaJob) + "[basis]\nscheme = \"copy\"\n",
-                                "tiny.toml", task_tables(), no_output_check());
-  const RunRecord record = compute_run(job, 0);
-  const KheperaTaskConfig& config = khepera_config(job);
-  const khepera::Khepera robot(config.simulator);
-
-  std::vector<std::uint8_t> occupied(static_cast<std::size_t>(record.graph.num_nodes), 0);
-  for (const NamedArray& a : record.arrays) {
-    if (a.name != "graph/occupied") continue;
-    for (std::size_t u = 0; u < a.values.size(); ++u) occupied[u] = a.values[u] != 0.0;
-  }
-  std::int64_t edges = 0;
-  for (std::int32_t u = 0; u < record.graph.num_nodes; ++u) {
-    for (std::int32_t v : record.graph.neighbors(u)) edges += u < v;
-  }
-  ASSERT_EQ(record.fits.size(), 2u);
-  for (const FitRecord& fit : record.fits) {
-    const std::map<std::string, double> metrics(fit.metrics.begin(), fit.metrics.end());
-    EXPECT_EQ(metrics.at("edges"), static_cast<double>(edges));
-    EXPECT_EQ(metrics.at("median_degree"), kernels::median_degree(record.graph, occupied));
-    const kernels::RowMatrixXd sp = kernels::geodesic_distances(record.graph, fit.centers);
-    EXPECT_EQ(metrics.at("geodesic_stretch"),
-              kernels::geodesic_stretch(sp, fit.centers, record.node_states));
-    EXPECT_GE(metrics.at("geodesic_stretch"), 1.0);
-    EXPECT_GT(metrics.at("kernel_gap"), 0.0);
-    EXPECT_LT(metrics.at("kernel_gap"), 1.0);
-  }
-  // GGK and OGK fits of one sweep point share centres and width: the same gap.
-  EXPECT_EQ(record.fits[0].metrics.back(), record.fits[1].metrics.back());
-
-  std::map<std::string, const NamedArray*> arrays;
-  for (const NamedArray& a : record.arrays) arrays[a.name] = &a;
-  const khepera::Pose start = robot.start_pose();
-  EXPECT_EQ(arrays.at("arena/start")->values,
-            (std::vector<double>{start.x, start.y, start.heading}));
-  const khepera::Readings clean = robot.sense_noiseless(start);
-  EXPECT_EQ(arrays.at("robot/start_readings")->values,
-            std::vector<double>(clean.begin(), clean.end()));
-  const NamedArray& rays = *arrays.at("robot/start_rays");
-  ASSERT_EQ(rays.shape, (std::vector<std::int64_t>{24, 5}));
-  for (std::int32_t i = 0; i < khepera::kNumSensors; ++i) {
-    const khepera::SensorRays hit = robot.sensor_rays(start, i);
-    const double distances[3] = {hit.left, hit.centre, hit.right};
-    for (std::size_t k = 0; k < 3; ++k) {
-      const double* ray = &rays.values[(3 * static_cast<std::size_t>(i) + k) * 5];
-      const double length = std::hypot(ray[2] - ray[0], ray[3] - ray[1]);
-      const bool seen = distances[k] <= config.simulator.sensors.range;
-      EXPECT_EQ(ray[4], seen ? 1.0 : 0.0);
-      EXPECT_NEAR(length, seen ? distances[k] : config.simulator.sensors.range, 1e-9);
-    }
-  }
-}
-
-TEST(KheperaJob, TinyRunFitsAndIsIdenticalForOneAndTwoThreads) {
-  const JobSpec job = parse_job(std::string(kKheperaJob) + "[basis]\nscheme = \"copy\"\n",
-                                "tiny.toml", task_tables(), no_output_check());
-  const RunRecord one = run_with_threads(job, 0, 1);
-  const RunRecord two = run_with_threads(job, 0, 2);
-
-  ASSERT_EQ(one.fits.size(), 2u);  // ggk and ogk, 5 kernels
-  EXPECT_EQ(one.samples.actions.size(), 500u);
-  EXPECT_EQ(one.samples.observations.rows(), 500);
-  EXPECT_EQ(one.samples.observations.cols(), khepera::kNumSensors);
-  EXPECT_EQ(one.node_states.rows(), 20);  // the 4 x 5 SOM's prototypes
-  for (const FitRecord& fit : one.fits) {
-    SCOPED_TRACE(std::string(kernel_type_name(fit.point.basis)));
-    EXPECT_TRUE(fit.status == "converged" || fit.status == "max_iterations")
-        << fit.status << ": " << fit.message;
-    const std::map<std::string, double> metrics(fit.metrics.begin(), fit.metrics.end());
-    ASSERT_EQ(metrics.size(), khepera_metric_names().size());
-    const double mean_return = metrics.at("mean_return");
-    EXPECT_TRUE(std::isfinite(mean_return));
-    // At most test_max_steps forward steps, at least one collision per episode.
-    EXPECT_LE(mean_return, 150.0);
-    EXPECT_GE(mean_return, -2.0);
-    EXPECT_GE(metrics.at("mean_steps"), 1.0);
-    EXPECT_LE(metrics.at("mean_steps"), 150.0);
-    EXPECT_GE(metrics.at("lspi_iterations"), 1.0);
-    EXPECT_GT(metrics.at("graph_nodes"), 5.0);
-    EXPECT_LE(metrics.at("graph_nodes"), 20.0);
-    EXPECT_EQ(fit.centers.size(), 5u);
-    EXPECT_EQ(fit.lspi.weights.size(), 4 * 5);
-  }
-
-  // Bit-identical for 1 and 2 threads: samples, map, graph, every fit.
-  EXPECT_EQ(one.samples.actions, two.samples.actions);
-  EXPECT_TRUE(one.samples.observations == two.samples.observations);
-  EXPECT_TRUE(one.node_states == two.node_states);
-  EXPECT_EQ(one.graph.indices, two.graph.indices);
-  EXPECT_TRUE(same_bits(one.graph.weights, two.graph.weights));
-  ASSERT_EQ(one.arrays.size(), two.arrays.size());
-  for (std::size_t i = 0; i < one.arrays.size(); ++i) {
-    EXPECT_EQ(one.arrays[i].name, two.arrays[i].name);
-    EXPECT_TRUE(same_bits(one.arrays[i].values, two.arrays[i].values)) << one.arrays[i].name;
-  }
-  ASSERT_EQ(one.fits.size(), two.fits.size());
-  for (std::size_t i = 0; i < one.fits.size(); ++i) {
-    const FitRecord& a = one.fits[i];
-    const FitRecord& b = two.fits[i];
-    EXPECT_EQ(a.status, b.status);
-    EXPECT_EQ(a.centers, b.centers);
-    EXPECT_TRUE(same_bits(values_of(a.lspi.weights), values_of(b.lspi.weights)));
-    ASSERT_EQ(a.metrics.size(), b.metrics.size());
-    for (std::size_t m = 0; m < a.metrics.size(); ++m) {
-      EXPECT_EQ(a.metrics[m].first, b.metrics[m].first);
-      EXPECT_TRUE(same_bits({a.metrics[m].second}, {b.metrics[m].second})) << a.metrics[m].first;
-    }
-    ASSERT_EQ(a.arrays.size(), b.arrays.size());
-    for (std::size_t k = 0; k < a.arrays.size(); ++k) {
-      EXPECT_EQ(a.arrays[k].name, b.arrays[k].name);
-      EXPECT_TRUE(same_bits(a.arrays[k].values, b.arrays[k].values)) << a.arrays[k].name;
-    }
-  }
 }
 
 }  // namespace

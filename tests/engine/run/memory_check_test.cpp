@@ -7,12 +7,8 @@
 // Under AddressSanitizer, whose shadow memory needs terabytes of address space,
 // only the timeout applies.
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -21,17 +17,17 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/job/job_file.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/run/memory_check.hpp"
 #include "engine/tasks/task_list.hpp"
+#include "support/ggk_binary.hpp"
+#include "support/job_text.hpp"
 
 namespace ggk::engine {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr int kUserError = 2;
+using namespace test_support;
 
 #if defined(__SANITIZE_ADDRESS__)
 constexpr bool kAddressSanitizer = true;
@@ -52,12 +48,12 @@ constexpr const char* kMap =
     "#....G#\n"
     "#######\n";
 
-// A maze job: `runs` runs, [maze] series x steps_per_series, output %OUT%.
+// A maze job: `runs` runs, [maze] series x steps_per_series, output <scratch>/out/big.h5.
 std::string maze_job(const std::string& runs, const std::string& series, const std::string& steps) {
   return "name = \"big\"\ntask = \"maze\"\nruns = " + runs +
          "\nseed = 1\n[sweep]\nkernels = [4, 8]\nsigma = [2.0]\n[maze]\nseries = " + series +
          "\nsteps_per_series = " + steps + "\nmap = \"\"\"\n" + kMap +
-         "\"\"\"\n[output]\nfile = \"%OUT%\"\n";
+         "\"\"\"\n[output]\nfile = \"%DIR%/out/big.h5\"\n";
 }
 
 // A Khepera job whose SOM has rows x cols units, on series x steps_per_series walks.
@@ -67,27 +63,12 @@ std::string khepera_job(const std::string& rows, const std::string& cols,
          "sigma = [1000.0]\n[khepera]\nseries = 1\nsteps_per_series = " +
          steps + "\n[khepera.som]\nrows = " + rows + "\ncols = " + cols +
          "\n[khepera.arena]\nmin = [0.0, 0.0]\nmax = [40.0, 40.0]\n"
-         "start = { x = 20.0, y = 20.0, heading_deg = 0.0 }\n[output]\nfile = \"%OUT%\"\n";
-}
-
-std::string replaced(std::string text, const std::string& key, const std::string& value) {
-  for (std::size_t at = text.find(key); at != std::string::npos; at = text.find(key, at)) {
-    text.replace(at, key.size(), value);
-    at += value.size();
-  }
-  return text;
+         "start = { x = 20.0, y = 20.0, heading_deg = 0.0 }\n[output]\nfile = "
+         "\"%DIR%/out/big.h5\"\n";
 }
 
 JobSpec parse(const std::string& text) {
-  JobLoadOptions options;
-  options.check_output = false;
-  return parse_job(replaced(text, "%OUT%", "out.h5"), "big.toml", task_tables(), options);
-}
-
-TEST(MemoryCheck, EveryTaskEstimatesItsRuns) {
-  for (const TaskDefinition& task : registered_tasks()) {
-    EXPECT_NE(task.estimate_run_bytes, nullptr) << task.table.name;
-  }
+  return parse_unchecked(substitute(text, "DIR", "."), "big.toml");
 }
 
 TEST(MemoryCheck, RunsAtOnceFollowTheThreadsAndTheRuns) {
@@ -132,57 +113,24 @@ TEST(MemoryCheck, AvailableMemoryIsKnownOnLinux) {
 
 // ------------------------------------------------------------- the binary
 
-struct Outcome {
-  int status = -1;
-  std::string err;
-};
-
-class MemoryCheckCli : public ::testing::Test {
+class MemoryCheckCli : public GgkBinaryTest {
  protected:
   void SetUp() override {
-    const char* binary_dir = std::getenv("GGK_BINARY_DIR");
-    if (binary_dir == nullptr) GTEST_SKIP() << "GGK_BINARY_DIR is not set (run through ctest)";
-    binary_ = fs::path(binary_dir) / "ggk";
-    ASSERT_TRUE(fs::exists(binary_)) << binary_ << " is missing: build the ggk target";
-    std::string pattern = (fs::temp_directory_path() / "ggk-memory-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
+    GgkBinaryTest::SetUp();
+    if (IsSkipped() || HasFatalFailure()) return;
     fs::create_directories(dir_ / "out");
-  }
-  void TearDown() override {
-    std::error_code ignored;
-    if (!dir_.empty()) fs::remove_all(dir_, ignored);
   }
 
   fs::path write_job(const std::string& text) const {
-    const fs::path path = dir_ / "big.toml";
-    std::ofstream(path) << replaced(text, "%OUT%", (dir_ / "out" / "big.h5").string());
-    return path;
+    return test_support::write_job(dir_, "big.toml", text);
   }
 
   // ggk with `args` under a 4 GiB address-space limit and a 120 s timeout.
   Outcome ggk(const std::vector<std::string>& args) const {
-    std::string command = kAddressSanitizer ? "" : "ulimit -v 4194304; ";
-    command += "exec timeout 120 '" + binary_.string() + "'";
-    for (const std::string& arg : args) command += " '" + arg + "'";
-    const fs::path err = dir_ / "stderr.txt";
-    command += " </dev/null >/dev/null 2>'" + err.string() + "'";
-    const int raw = std::system(("bash -c \"" + command + "\"").c_str());
-    Outcome outcome;
-    if (raw != -1 && WIFEXITED(raw)) outcome.status = WEXITSTATUS(raw);
-    std::ifstream in(err);
-    outcome.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    return outcome;
+    return GgkBinaryTest::ggk(
+        args, {.address_space_kib = kAddressSanitizer ? 0 : 4194304, .timeout_seconds = 120});
   }
-
-  fs::path binary_;
-  fs::path dir_;
 };
-
-::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "\"" << text << "\" does not contain \"" << part << "\"";
-}
 
 TEST_F(MemoryCheckCli, JobsThatCannotFitAreRefusedBeforeAnyOutputExists) {
   struct Case {

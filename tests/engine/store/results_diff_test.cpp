@@ -1,0 +1,124 @@
+// ggk diff (engine/store/results_diff.hpp): two runs of one job are the same
+// results (wall-clock times and provenance aside); a changed value, attribute or
+// missing object is a difference named by its path; a file that is no results
+// file is a UsageError.
+
+#include "engine/store/results_diff.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "engine/job/usage_error.hpp"
+#include "engine/run/job_runner.hpp"
+#include "engine/store/hdf5_file.hpp"
+#include "support/determinism_job.hpp"
+#include "support/ggk_binary.hpp"
+
+namespace ggk::engine {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace test_support;
+
+constexpr const char* kWeights = "/maze/run_001/fits/ggk/k_0008_sigma3_brm_lambda1e-06/weights";
+
+class ResultsDiffTest : public JobRunnerTest {
+ protected:
+  void SetUp() override {
+    JobRunnerTest::SetUp();
+    job_ = load_job("job.toml", determinism_job(dir_ / "a.h5"));
+    run_job(job_, options_for(dir_ / "a.h5"));
+    fs::copy_file(dir_ / "a.h5", dir_ / "b.h5");
+  }
+
+  // diff_results(a.h5, b.h5): the verdict and what it printed.
+  std::pair<bool, std::string> diff() const {
+    std::ostringstream out;
+    const bool same = diff_results(dir_ / "a.h5", dir_ / "b.h5", out);
+    return {same, out.str()};
+  }
+
+  JobSpec job_;
+};
+
+TEST_F(ResultsDiffTest, TwoRunsOfOneJobAreTheSameResults) {
+  // Another run, on another thread count: fit_seconds and created differ.
+  fs::remove(dir_ / "b.h5");
+  run_job(job_, options_for(dir_ / "b.h5", 1));
+  ASSERT_NE(Hdf5File::open_read_only(dir_ / "a.h5").read_vector<double>(kWeights).size(), 0u);
+  const auto [same, printed] = diff();
+  EXPECT_TRUE(same) << printed;
+  EXPECT_TRUE(contains(printed, "same results: "));
+  EXPECT_EQ(printed.find("differs"), std::string::npos) << printed;
+}
+
+TEST_F(ResultsDiffTest, AChangedDatasetIsNamed) {
+  {
+    Hdf5File b = Hdf5File::open_read_write(dir_ / "b.h5");
+    std::vector<double> weights = b.read_vector<double>(kWeights);
+    ASSERT_FALSE(weights.empty());
+    weights.back() = std::nextafter(weights.back(), 1e300);  // one ulp
+    b.remove(kWeights);
+    b.write_vector(kWeights, weights);
+    b.flush();
+  }
+  const auto [same, printed] = diff();
+  EXPECT_FALSE(same);
+  EXPECT_TRUE(contains(printed, std::string("differs: ") + kWeights + ": values differ"));
+  EXPECT_TRUE(contains(printed, "different results: 1 of "));
+}
+
+TEST_F(ResultsDiffTest, AChangedAttributeAndAMissingGroupAreNamed) {
+  const std::string fit = "/maze/run_002/fits/ogk/k_0004_sigma3_lstdq_lambda1e-06";
+  {
+    Hdf5File b = Hdf5File::open_read_write(dir_ / "b.h5");
+    const std::string status = b.read_string_attribute(fit, "status");
+    b.remove_attribute(fit, "status");
+    b.write_string_attribute(fit, "status", status == "converged" ? "max_iterations" : "converged");
+    b.remove("/maze/run_000/graph");
+    b.flush();
+  }
+  const auto [same, printed] = diff();
+  EXPECT_FALSE(same);
+  EXPECT_TRUE(contains(printed, "differs: " + fit + " @status: attribute differs"));
+  EXPECT_TRUE(contains(printed, "differs: /maze/run_000/graph: only in the first file"));
+}
+
+TEST_F(ResultsDiffTest, ProvenanceIsANoteNotADifference) {
+  {
+    Hdf5File b = Hdf5File::open_read_write(dir_ / "b.h5");
+    b.remove_attribute("/", "ggk_version");
+    b.write_string_attribute("/", "ggk_version", "0.0.0-elsewhere");
+    b.flush();
+  }
+  const auto [same, printed] = diff();
+  EXPECT_TRUE(same) << printed;
+  EXPECT_TRUE(contains(printed, "note: ggk_version: "));
+  EXPECT_TRUE(contains(printed, "\"0.0.0-elsewhere\""));
+}
+
+TEST_F(ResultsDiffTest, AFileThatIsNoResultsFileIsAUsageError) {
+  {
+    Hdf5File other = Hdf5File::create(dir_ / "other.h5");
+    other.write_vector("/x", std::vector<double>{1.0});
+    other.flush();
+  }
+  std::ostringstream out;
+  try {
+    diff_results(dir_ / "a.h5", dir_ / "other.h5", out);
+    FAIL() << "expected a UsageError";
+  } catch (const UsageError& error) {
+    EXPECT_TRUE(contains(error.what(), (dir_ / "other.h5").string()));
+    EXPECT_TRUE(contains(error.what(), "not a ggk results file"));
+  }
+  write_file(dir_ / "plain.h5", "not HDF5\n");
+  EXPECT_THROW(diff_results(dir_ / "plain.h5", dir_ / "a.h5", out), UsageError);
+}
+
+}  // namespace
+}  // namespace ggk::engine

@@ -1,0 +1,134 @@
+// ggk verify (engine/store/results_verify.hpp): a whole file reads back; one
+// byte flipped inside a dataset's stored chunk (found with H5Dget_chunk_info) is
+// damage that verify_results and verify_run name by path; other runs stay whole.
+
+#include "engine/store/results_verify.hpp"
+
+#include <hdf5.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "engine/job/usage_error.hpp"
+#include "engine/run/job_runner.hpp"
+#include "engine/store/hdf5_file.hpp"
+#include "support/determinism_job.hpp"
+#include "support/ggk_binary.hpp"
+
+namespace ggk::engine {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace test_support;
+
+constexpr const char* kWeights = "/maze/run_001/fits/ggk/k_0008_sigma3_brm_lambda1e-06/weights";
+
+// Where the first stored chunk of dataset `path` lies in `file`: its byte
+// offset and size (as filtered: shuffled, compressed, checksummed).
+struct ChunkPlace {
+  haddr_t address = HADDR_UNDEF;
+  hsize_t size = 0;
+};
+
+ChunkPlace first_chunk(const fs::path& file, const std::string& path) {
+  ChunkPlace place;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return place;
+  const hid_t d = H5Dopen2(f, path.c_str(), H5P_DEFAULT);
+  if (d >= 0) {
+    const hid_t space = H5Dget_space(d);
+    hsize_t offset[1] = {0};
+    unsigned filter_mask = 0;
+    if (space < 0 ||
+        H5Dget_chunk_info(d, space, 0, offset, &filter_mask, &place.address, &place.size) < 0) {
+      place = {};
+    }
+    if (space >= 0) H5Sclose(space);
+    H5Dclose(d);
+  }
+  H5Fclose(f);
+  return place;
+}
+
+// Flips every bit of the byte at `offset` of `file`.
+void flip_byte(const fs::path& file, std::uint64_t offset) {
+  std::fstream io(file, std::ios::in | std::ios::out | std::ios::binary);
+  io.seekg(static_cast<std::streamoff>(offset));
+  char byte = 0;
+  io.get(byte);
+  io.seekp(static_cast<std::streamoff>(offset));
+  io.put(static_cast<char>(~byte));
+}
+
+class ResultsVerifyTest : public JobRunnerTest {
+ protected:
+  void SetUp() override {
+    JobRunnerTest::SetUp();
+    const JobSpec job = load_job("job.toml", determinism_job(dir_ / "out.h5"));
+    run_job(job, options_for(dir_ / "out.h5"));
+  }
+
+  std::pair<bool, std::string> verify() const {
+    std::ostringstream out;
+    const bool whole = verify_results(dir_ / "out.h5", out);
+    return {whole, out.str()};
+  }
+};
+
+TEST_F(ResultsVerifyTest, AWholeFileReadsBack) {
+  const auto [whole, printed] = verify();
+  EXPECT_TRUE(whole) << printed;
+  EXPECT_TRUE(contains(printed, "runs: 3 of 3 complete"));
+  EXPECT_TRUE(contains(printed, "ok: every checksum matches"));
+  const Hdf5File file = Hdf5File::open_read_only(dir_ / "out.h5");
+  for (std::int32_t run = 0; run < 3; ++run) {
+    EXPECT_EQ(verify_run(file, "maze", run), std::nullopt) << "run " << run;
+  }
+}
+
+TEST_F(ResultsVerifyTest, AFlippedByteInAChunkIsFoundAndNamed) {
+  const ChunkPlace chunk = first_chunk(dir_ / "out.h5", kWeights);
+  ASSERT_NE(chunk.address, HADDR_UNDEF) << "no chunk found for " << kWeights;
+  ASSERT_GT(chunk.size, 4u);
+  flip_byte(dir_ / "out.h5", chunk.address + chunk.size / 2);
+
+  const auto [whole, printed] = verify();
+  EXPECT_FALSE(whole) << printed;
+  EXPECT_TRUE(contains(printed, "DAMAGED: 1 objects do not read:"));
+  EXPECT_TRUE(contains(printed, std::string("  ") + kWeights + ": "));
+  EXPECT_TRUE(contains(printed, "--resume"));
+
+  const Hdf5File file = Hdf5File::open_read_only(dir_ / "out.h5");
+  const std::optional<std::string> damage = verify_run(file, "maze", 1);
+  ASSERT_TRUE(damage.has_value());
+  EXPECT_TRUE(contains(*damage, kWeights));
+  EXPECT_EQ(verify_run(file, "maze", 0), std::nullopt);
+  EXPECT_EQ(verify_run(file, "maze", 2), std::nullopt);
+}
+
+TEST_F(ResultsVerifyTest, AFileThatIsNoResultsFileIsAUsageError) {
+  std::ostringstream out;
+  EXPECT_THROW(verify_results(dir_ / "missing.h5", out), UsageError);
+  write_file(dir_ / "plain.h5", "not HDF5\n");
+  EXPECT_THROW(verify_results(dir_ / "plain.h5", out), UsageError);
+  {
+    Hdf5File other = Hdf5File::create(dir_ / "other.h5");
+    other.write_vector("/x", std::vector<double>{1.0});
+    other.flush();
+  }
+  try {
+    verify_results(dir_ / "other.h5", out);
+    FAIL() << "expected a UsageError";
+  } catch (const UsageError& error) {
+    EXPECT_TRUE(contains(error.what(), "not a ggk results file"));
+  }
+}
+
+}  // namespace
+}  // namespace ggk::engine
