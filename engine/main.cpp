@@ -20,9 +20,11 @@
 #include "engine/job/spelling.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/run/cpu_affinity.hpp"
 #include "engine/run/job_runner.hpp"
 #include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
+#include "engine/run/shards.hpp"
 #include "engine/store/results_diff.hpp"
 #include "engine/store/results_info.hpp"
 #include "engine/store/results_merge.hpp"
@@ -152,7 +154,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "ggk " + engine::ggk_version_text());
 
-  std::string job_path, info_path, runs_text;
+  std::string job_path, info_path, runs_text, shard_text;
   engine::RunOptions options;
   std::string output;
   std::vector<std::string> overrides;
@@ -175,6 +177,10 @@ int main(int argc, char** argv) {
                 "run even when the job's estimated memory exceeds what is available");
   run->add_option("--runs", runs_text,
                   "A:B computes only runs A..B-1 (a shard for a job array; join with ggk merge)");
+  run->add_option("--shard", shard_text,
+                  "I/N computes shard I of N (0 <= I < N; contiguous, balanced runs) into "
+                  "OUT.shard-I-of-N.h5; 'slurm': I and N from a job array (sbatch --array=0-3); "
+                  "join with ggk merge --shards-of JOB");
   run->add_option("--rank-timeout", rank_timeout,
                   "under MPI: seconds a rank may stay silent before the job stops (default 60)")
       ->check(CLI::PositiveNumber);
@@ -202,13 +208,20 @@ int main(int argc, char** argv) {
       "diff", "Exit 0 when two results files hold the same results, 1 (naming them) when not");
   diff->add_option("files", diff_files, "two results files")->required()->expected(2);
 
-  std::string merge_output;
+  std::string merge_output, merge_job;
   std::vector<std::string> merge_inputs;
   engine::MergeOptions merge_options;
   CLI::App* merge = app.add_subcommand(
-      "merge", "Join shards of one job (ggk run --runs A:B) into the file the whole job writes");
-  merge->add_option("output", merge_output, "the merged results file (must not exist)")->required();
-  merge->add_option("shards", merge_inputs, "shard results files")->required()->expected(1, -1);
+      "merge",
+      "Join shards of one job (ggk run --shard I/N or --runs A:B) into the file the "
+      "whole job writes");
+  merge->add_option("output", merge_output,
+                    "the merged results file (must not exist; with --shards-of, default: the "
+                    "job's output)");
+  merge->add_option("shards", merge_inputs, "shard results files")->expected(0, -1);
+  merge->add_option("--shards-of", merge_job,
+                    "JOB: merge the shards of OUT (the job's output) that ggk run JOB --shard "
+                    "wrote, OUT.shard-I-of-N.h5, refusing when one is missing");
   merge->add_flag("--allow-partial", merge_options.allow_partial,
                   "merge even when runs are missing (ggk run --resume computes them)");
 
@@ -232,6 +245,18 @@ int main(int argc, char** argv) {
       }
       options.output = output;
       if (!runs_text.empty()) options.runs = parse_run_range(runs_text);
+      if (!shard_text.empty()) {
+        if (!runs_text.empty()) {
+          throw engine::UsageError("--shard " + shard_text + " and --runs " + runs_text +
+                                   " exclude each other: a shard is a range of runs");
+        }
+        engine::apply_shard_option(shard_text, job_path, overrides, options);
+      }
+      if (!quiet_rank) {
+        const auto warning =
+            engine::oversubscription_warning(options.threads, engine::affinity_cpus());
+        if (warning) std::fprintf(stderr, "ggk: warning: %s\n", warning->c_str());
+      }
 #if GGK_WITH_MPI
       if (mpi && mpi->size() > 1) {
         engine::MpiRunOptions mpi_options;
@@ -254,18 +279,29 @@ int main(int argc, char** argv) {
     if (*verify) return engine::verify_results(verify_path, std::cout) ? 0 : 1;
     if (*diff) return engine::diff_results(diff_files[0], diff_files[1], std::cout) ? 0 : 1;
     if (*merge) {
+      std::vector<std::filesystem::path> shards(merge_inputs.begin(), merge_inputs.end());
+      if (!merge_job.empty()) {
+        if (!shards.empty()) {
+          throw engine::UsageError("merge --shards-of " + merge_job +
+                                   " finds the shards itself: give no shard files");
+        }
+        shards = engine::shards_of_job(merge_job, merge_output, merge_options.allow_partial);
+      } else if (merge_output.empty() || shards.empty()) {
+        throw engine::UsageError(
+            "merge: give the output and its shards (ggk merge OUT a.h5 b.h5 ...), or the job "
+            "whose shards to merge (ggk merge [OUT] --shards-of JOB)");
+      }
       if (auto problem = engine::results_extension_problem(merge_output)) {
         throw engine::UsageError("merge output: " + *problem);
       }
-      std::vector<std::filesystem::path> shards(merge_inputs.begin(), merge_inputs.end());
       engine::merge_results(merge_output, shards, merge_options, std::cerr);
       return 0;
     }
   } catch (const engine::JobError& e) {
-    std::fprintf(stderr, "ggk: error: %s\n", e.what());
+    if (!quiet_rank) std::fprintf(stderr, "ggk: error: %s\n", e.what());
     return kUserError;
   } catch (const engine::UsageError& e) {
-    std::fprintf(stderr, "ggk: error: %s\n", e.what());
+    if (!quiet_rank) std::fprintf(stderr, "ggk: error: %s\n", e.what());
     return kUserError;
   } catch (const engine::RunFailure& e) {
     std::fprintf(stderr, "ggk: error: %s\n", e.what());

@@ -7,6 +7,10 @@
 # build is not) and ggk sets it to one thread per call (kernels/blas_runtime.hpp).
 # libblas-dev gives the libblas.so that ggk links; libblas.so.3 at run time is the
 # highest-priority alternative, the pthread OpenBLAS.
+# slurm-wlm, munge: a one-node Slurm for running the README's cluster recipes
+# (scripts/slurm-local.sh, scripts/slurm-recipes.sh); srun --mpi=pmix needs nothing
+# more: Slurm's mpi_pmix plugin comes with slurm-wlm (slurm-wlm-basic-plugins) and
+# OpenMPI's PMIx (libpmix2) with libopenmpi3.
 set -euo pipefail
 
 packages=(
@@ -16,6 +20,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libcli11-dev librandom123-dev
   libopenmpi-dev openmpi-bin
+  slurm-wlm munge
   libboost-dev
   python3-h5py python3-matplotlib python3-numpy python3-scipy python3-pandas
 )
