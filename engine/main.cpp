@@ -18,6 +18,7 @@
 #include "engine/job/job_error.hpp"
 #include "engine/job/job_file.hpp"
 #include "engine/job/spelling.hpp"
+#include "engine/job/study.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/usage_error.hpp"
 #include "engine/run/cpu_affinity.hpp"
@@ -54,14 +55,41 @@ int validate_command(const std::string& job_path, const std::string& output,
                      const std::vector<std::string>& overrides) {
   // Checks what `ggk run` with the same arguments would: the job file, the
   // overrides, and the output (-o, else the job's, relative to this directory).
+  // A study (study.hpp) has every point checked, and its stages listed.
   engine::JobLoadOptions load;
   load.overrides = overrides;
   if (!output.empty()) load.output_file = output;
-  const engine::JobSpec job = engine::load_job_file(job_path, engine::task_tables(), load);
+  const engine::Study study = engine::load_study(job_path, engine::task_tables(), load);
+  const engine::JobSpec& job = study.job();
   const engine::JobMemoryEstimate memory = engine::estimate_job_memory(job, 1, 1);
-  std::printf("%s: ok (task %s, %d runs x %zu sweep points); about %s of memory per run\n",
-              job_path.c_str(), job.task.c_str(), job.runs, engine::expand_sweep(job).size(),
-              engine::format_bytes(memory.per_run).c_str());
+  std::size_t fits = 0;
+  for (const engine::RunConfiguration& configuration : study.configurations) {
+    fits += engine::expand_points(configuration).size();
+  }
+  if (!study.has_axes()) {
+    std::printf("%s: ok (task %s, %d runs x %zu sweep points); about %s of memory per run\n",
+                job_path.c_str(), job.task.c_str(), job.runs, fits,
+                engine::format_bytes(memory.per_run).c_str());
+    return 0;
+  }
+  std::printf(
+      "%s: ok, a study (task %s, %zu run configurations x %d runs, %zu fits per run "
+      "of every configuration together); about %s of memory per run\n",
+      job_path.c_str(), job.task.c_str(), study.configurations.size(), job.runs, fits,
+      engine::format_bytes(memory.per_run).c_str());
+  for (const engine::StudyAxis& axis : study.axes) {
+    std::string keys, values;
+    for (const std::string& key : axis.keys) keys += (keys.empty() ? "" : " + ") + key;
+    for (const auto& value : axis.values) {
+      std::string tuple;
+      for (const std::string& part : value) tuple += (tuple.empty() ? "" : "/") + part;
+      values += (values.empty() ? "" : ", ") + tuple;
+    }
+    std::printf("  axis %s = [%s]: %s\n", keys.c_str(), values.c_str(),
+                axis.level == engine::StageLevel::kRun
+                    ? "run-level (each value its own samples and graph)"
+                    : "fit-level (more fits of the same runs)");
+  }
   return 0;
 }
 

@@ -192,7 +192,18 @@ struct Expansion {
     try {
       job = parse_job_table(root, source_text, source_file, tasks, options);
     } catch (const JobError& e) {
-      throw JobError(e.file(), {e.line(), e.column()}, e.key_path(),
+      // A value copied into the job has lost its place in the file: the error
+      // about it points at the axis value in [sweep].
+      JobFileLocation where{e.line(), e.column()};
+      for (std::size_t a = 0; a < axis_ids.size() && where.line == 0; ++a) {
+        const WrittenAxis& axis = written[axis_ids[a]];
+        for (std::size_t k = 0; k < axis.keys.size(); ++k) {
+          if (axis.keys[k] == e.key_path() && e.file() == file) {
+            where = location_of(axis.values[k]->get(value_ids[a])->source());
+          }
+        }
+      }
+      throw JobError(e.file(), where, e.key_path(),
                      e.detail() + " (at the study point " + description + ")");
     }
     for (std::size_t a = 0; a < axis_ids.size(); ++a) {
