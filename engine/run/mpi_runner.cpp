@@ -57,9 +57,10 @@ constexpr auto kHeartbeatPeriod = std::chrono::milliseconds(250);
 // every worker to report one (mpirun sends SIGKILL 1 s after its SIGTERM:
 // odls_base_sigkill_timeout).
 constexpr auto kStopPoll = std::chrono::milliseconds(10);
-constexpr auto kStopReportWait = std::chrono::milliseconds(400);
-// How long a stopped worker waits for rank 0 to report before it exits.
-constexpr auto kStopAckWait = std::chrono::milliseconds(800);
+constexpr auto kStopReportWait = std::chrono::milliseconds(600);
+// How long a stopped worker waits for rank 0 to report before it exits (under
+// mpirun, its SIGKILL comes first).
+constexpr auto kStopAckWait = std::chrono::milliseconds(2000);
 
 // Header of a result message, before the image bytes.
 struct ResultHeader {
