@@ -111,6 +111,16 @@ engine::RunRange parse_run_range(const std::string& text) {
   }
 }
 
+// --set, the same for run and validate.
+void add_set_option(CLI::App& command, std::vector<std::string>& overrides) {
+  command
+      .add_option("--set", overrides,
+                  "KEY=VALUE: override a job key (e.g. --set runs=5 --set "
+                  "khepera.motion.turn_deg=30); validated like the file, recorded in the results")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
 // "Did you mean": CLI11 says only that an argument was not expected. Looks at
 // the command line before CLI11 does: an unknown command, or an option the
 // command does not have, is a UsageError naming the closest spelling.
@@ -169,6 +179,9 @@ void check_spelling(const CLI::App& app, int argc, char** argv) {
 int main(int argc, char** argv) {
   // Parallelism belongs to oneTBB: no OpenMP teams inside SuiteSparse calls.
   omp_set_num_threads(1);
+  // As typed (before an MPI launcher's library may edit argv): the commands
+  // ggk prints to resume repeat it.
+  const std::vector<std::string> invocation(argv, argv + argc);
 
 #if GGK_WITH_MPI
   std::optional<engine::MpiSession> mpi;
@@ -186,18 +199,13 @@ int main(int argc, char** argv) {
   engine::RunOptions options;
   std::string output;
   std::vector<std::string> overrides;
-  const char* set_help =
-      "KEY=VALUE: override a job key (e.g. --set runs=5 --set khepera.motion.turn_deg=30); "
-      "validated like the file, recorded in the results";
   double rank_timeout = 60.0;
   CLI::App* run = app.add_subcommand("run", "Run a sweep job file, writing one HDF5 file");
   run->add_option("job", job_path, "job file (TOML)")->required();
   run->add_option("-j,--threads", options.threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
   run->add_option("-o,--output", output, "results file, *.h5 (default: the job's [output] file)");
-  run->add_option("--set", overrides, set_help)
-      ->expected(1)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  add_set_option(*run, overrides);
   run->add_flag("--resume", options.resume, "continue an interrupted run of the same job");
   run->add_flag("--overwrite", options.overwrite, "replace an existing results file");
   run->add_flag("-q,--quiet", options.quiet, "no progress output");
@@ -216,9 +224,7 @@ int main(int argc, char** argv) {
   CLI::App* validate = app.add_subcommand("validate", "Check a job file and exit");
   validate->add_option("job", job_path, "job file (TOML)")->required();
   validate->add_option("-o,--output", output, "the results file `ggk run -o` would write");
-  validate->add_option("--set", overrides, set_help)
-      ->expected(1)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  add_set_option(*validate, overrides);
 
   bool info_csv = false;
   CLI::App* info = app.add_subcommand("info", "Describe a results file");
@@ -272,6 +278,7 @@ int main(int argc, char** argv) {
         throw engine::UsageError("--resume and --overwrite exclude each other");
       }
       options.output = output;
+      options.invocation = invocation;
       if (!runs_text.empty()) options.runs = parse_run_range(runs_text);
       if (!shard_text.empty()) {
         if (!runs_text.empty()) {
@@ -322,6 +329,7 @@ int main(int argc, char** argv) {
       if (auto problem = engine::results_extension_problem(merge_output)) {
         throw engine::UsageError("merge output: " + *problem);
       }
+      merge_options.program = invocation.front();
       engine::merge_results(merge_output, shards, merge_options, std::cerr);
       return 0;
     }

@@ -13,12 +13,9 @@
 #include <tbb/parallel_for.h>
 
 #include "engine/job/sweep.hpp"
+#include "engine/run/job_writer.hpp"
 #include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
-#include "engine/run/progress.hpp"
-#include "engine/run/stop_signals.hpp"
-#include "engine/store/run_store.hpp"
-#include "engine/store/store_writer.hpp"
 #include "engine/tasks/task_list.hpp"
 #include "kernels/blas_runtime.hpp"
 
@@ -72,53 +69,38 @@ RunSummary run_job(const JobSpec& job, const RunOptions& options) {
   check_memory(job, options);  // before the output is created or touched
   OpenedResults opened = open_results(job, options);
   print_notes(opened.notes);
-  StopSignals stop_signals(job.source_file, opened.target.output(), opened.target.temporary(),
-                           opened.target.lock_file());
   RunSummary summary;
   summary.output = opened.target.output();
   summary.runs_skipped = opened.skipped;
-  const std::vector<std::int32_t>& pending = opened.pending;
+  const std::vector<std::int32_t> pending = std::move(opened.pending);
   const auto fits_per_run = static_cast<std::int32_t>(expand_sweep(job).size());
 
   std::atomic<std::int64_t> failed_fits{0};
+  JobWriter writer(job, options, std::move(opened), static_cast<std::int32_t>(pending.size()),
+                   StopSignals::Mode::kStopInHandler);
   try {
-    StoreWriter writer(std::move(opened.file), StoreWriter::kDefaultQueueCapacity,
-                       StoreWriter::WhenIdle::kCloseForReaders);
-    {
-      Progress progress(static_cast<std::int32_t>(pending.size()), fits_per_run, options.quiet);
-      tbb::parallel_for(
-          std::size_t{0}, pending.size(),
-          [&](std::size_t i) {
-            auto record = std::make_shared<const RunRecord>(compute_run(job, pending[i]));
-            failed_fits.fetch_add(failed_fits_of(*record));
-            writer.submit([record, &job, &progress, &opened, &stop_signals](Hdf5File& f) {
-              write_run(f, job, *record);
-              opened.target.publish(f);  // a new file takes its name with its first run
-              stop_signals.results_published();
-              progress.run_done();
-            });
-          },
-          tbb::simple_partitioner());
-      writer.wait();
-    }
-    writer.submit([&job, &opened](Hdf5File& f) {
-      write_summary(f, job);
-      opened.target.publish(f);
-    });
-    writer.close();
+    tbb::parallel_for(
+        std::size_t{0}, pending.size(),
+        [&](std::size_t i) {
+          auto record = std::make_shared<const RunRecord>(compute_run(job, pending[i]));
+          failed_fits.fetch_add(failed_fits_of(*record));
+          writer.commit(std::move(record));
+        },
+        tbb::simple_partitioner());
+    writer.finish();
   } catch (const UsageError&) {
     throw;
   } catch (const std::runtime_error& e) {
-    // The writer abandoned the file as its last commit left it (or the output
-    // was never touched): say which, and how to go on.
-    const std::string output = opened.target.output().string();
-    throw RunFailure(
-        std::string(e.what()) +
-        (opened.target.temporary().empty()
-             ? "\nggk: every run written to " + output +
-                   " is complete; when the cause is fixed, finish the job with `ggk run " +
-                   job.source_file.string() + " --resume -o " + output + "`"
-             : "\nggk: " + output + " is as it was (no run of this job was written)"));
+    // The writer abandoned the file as its last commit left it, or writes the
+    // runs queued before a run failed; or the output was never touched. Say
+    // which, and how to go on.
+    try {
+      writer.wait();
+    } catch (const std::runtime_error&) {  // the failure being reported, or its cause
+    }
+    const bool published = writer.target().temporary().empty();
+    throw RunFailure(std::string(e.what()) + "\nggk: " +
+                     (published ? writer.go_on().published : writer.go_on().unpublished));
   }
 
   summary.runs_computed = static_cast<std::int32_t>(pending.size());

@@ -35,6 +35,10 @@ struct RunOptions {
   bool quiet = false;                // no progress output
   std::optional<RunRange> runs;      // only these runs (a shard); checked against job.runs
   bool ignore_memory_check = false;  // run a job whose estimate exceeds the memory available
+  // The command line as typed (argv, the program as invoked first): what the
+  // resume commands ggk prints repeat (resume_command.hpp). Empty: built from
+  // the job and these options.
+  std::vector<std::string> invocation;
 };
 
 struct RunSummary {

@@ -17,6 +17,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -24,11 +25,11 @@
 #include "engine/job/job_error.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/run/job_writer.hpp"
 #include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
-#include "engine/run/progress.hpp"
+#include "engine/run/stop_signals.hpp"
 #include "engine/store/run_store.hpp"
-#include "engine/store/store_writer.hpp"
 #include "engine/tasks/task_list.hpp"
 
 namespace ggk::engine {
@@ -39,10 +40,27 @@ using Clock = std::chrono::steady_clock;
 
 // Message tags. Worker -> rank 0: ready (first request), result (a run's image,
 // also a request for the next run), heartbeat (still computing), failed (an
-// internal error; the worker stops). Rank 0 -> worker: assign (a run), stop.
-enum Tag : int { kReady = 1, kResult = 2, kHeartbeat = 3, kFailed = 4, kAssign = 5, kStop = 6 };
+// internal error; the worker stops), stopped (by a signal; the worker exits).
+// Rank 0 -> worker: assign (a run), stop.
+enum Tag : int {
+  kReady = 1,
+  kResult = 2,
+  kHeartbeat = 3,
+  kFailed = 4,
+  kAssign = 5,
+  kStop = 6,
+  kStopped = 7  // worker -> rank 0: a stop signal arrived (its number); the worker exits
+};
 
 constexpr auto kHeartbeatPeriod = std::chrono::milliseconds(250);
+// How often a worker looks for a stop signal, and how long rank 0 waits for
+// every worker to report one (mpirun sends SIGKILL 1 s after its SIGTERM:
+// odls_base_sigkill_timeout).
+constexpr auto kStopPoll = std::chrono::milliseconds(10);
+constexpr auto kStopReportWait = std::chrono::milliseconds(600);
+// How long a stopped worker waits for rank 0 to report before it exits (under
+// mpirun, its SIGKILL comes first).
+constexpr auto kStopAckWait = std::chrono::milliseconds(2000);
 
 // Header of a result message, before the image bytes.
 struct ResultHeader {
@@ -128,29 +146,60 @@ Outcome check_same_job(const JobSpec& job, int rank) {
                  "the same job (a shared file system)"};
 }
 
-// --------------------------------------------------------------- signals
-// Rank 0 reports the runs in flight when the launcher stops the job (mpirun
-// sends SIGTERM to every rank when one dies). The handler only sets a flag; the
-// coordinator's loop, which polls every few milliseconds, prints and exits.
-volatile std::sig_atomic_t g_stop_signal = 0;
-extern "C" void on_stop_signal(int signal) {
-  g_stop_signal = signal;
+// --------------------------------------------------------------- worker
+// A worker stopped by a signal (mpirun sends SIGTERM to every rank on a Ctrl-C,
+// a scheduler to every process) says so to rank 0, so that rank 0 knows it was
+// stopped and did not die, and exits with 128 + signal once rank 0 has reported
+// (its kStop) or after kStopAckWait: mpirun ends the whole job as soon as one
+// rank exits, and rank 0 must have printed and released the lock by then.
+// `receiving`: the worker's posted receive of its next run, if any.
+[[noreturn]] void report_stop_and_exit(int signal, MPI_Request* receiving) {
+  MPI_Send(&signal, 1, MPI_INT, 0, kStopped, MPI_COMM_WORLD);
+  bool acknowledged = false;
+  if (receiving != nullptr) {
+    MPI_Status status;
+    MPI_Cancel(receiving);
+    MPI_Wait(receiving, &status);
+    int cancelled = 0;
+    MPI_Test_cancelled(&status, &cancelled);
+    acknowledged = !cancelled && status.MPI_TAG == kStop;
+  }
+  for (const auto deadline = Clock::now() + kStopAckWait;
+       !acknowledged && Clock::now() < deadline;) {
+    int arrived = 0;
+    MPI_Iprobe(0, kStop, MPI_COMM_WORLD, &arrived, MPI_STATUS_IGNORE);
+    acknowledged = arrived != 0;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  std::_Exit(128 + signal);
 }
 
-// --------------------------------------------------------------- worker
 int work(const JobSpec& job) {
+  const StopSignals stop_signals(StopSignals::Mode::kRecord);
   MPI_Send(nullptr, 0, MPI_BYTE, 0, kReady, MPI_COMM_WORLD);
   for (;;) {
     MPI_Status status;
     std::int64_t run = -1;
-    MPI_Recv(&run, 1, MPI_INT64_T, 0, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
+    MPI_Request request;
+    MPI_Irecv(&run, 1, MPI_INT64_T, 0, MPI_ANY_TAG, MPI_COMM_WORLD, &request);
+    for (int arrived = 0;;) {
+      MPI_Test(&request, &arrived, &status);
+      if (arrived) break;
+      if (const int signal = stop_signals.received()) report_stop_and_exit(signal, &request);
+      std::this_thread::sleep_for(kStopPoll);
+    }
     if (status.MPI_TAG == kStop) return 0;
     // Compute on oneTBB's threads; this (the MPI) thread says it is alive.
     std::future<RunRecord> computing = std::async(std::launch::async, [&job, run] {
       return compute_run(job, static_cast<std::int32_t>(run));
     });
-    while (computing.wait_for(kHeartbeatPeriod) != std::future_status::ready) {
-      MPI_Send(nullptr, 0, MPI_BYTE, 0, kHeartbeat, MPI_COMM_WORLD);
+    auto last_heartbeat = Clock::now();
+    while (computing.wait_for(kStopPoll) != std::future_status::ready) {
+      if (const int signal = stop_signals.received()) report_stop_and_exit(signal, nullptr);
+      if (Clock::now() - last_heartbeat >= kHeartbeatPeriod) {
+        MPI_Send(nullptr, 0, MPI_BYTE, 0, kHeartbeat, MPI_COMM_WORLD);
+        last_heartbeat = Clock::now();
+      }
     }
     std::vector<unsigned char> message;
     try {
@@ -183,20 +232,20 @@ class Coordinator {
       : job_(job),
         options_(options),
         size_(size),
-        target_(std::move(opened.target)),
         skipped_(opened.skipped),
         pending_(opened.pending.begin(), opened.pending.end()),
         total_(static_cast<std::int32_t>(opened.pending.size())),
-        writer_(std::move(opened.file), StoreWriter::kDefaultQueueCapacity,
-                StoreWriter::WhenIdle::kCloseForReaders) {}
+        writer_(job, options.run, std::move(opened), total_, StopSignals::Mode::kRecord) {}
 
   // Returns the exit status; fills summary on success.
   int run(RunSummary& summary);
+  // The workers that reported a stop signal wait for this (a kStop) to exit.
+  void release_stopped_workers();
 
  private:
   std::optional<std::int32_t> take_run() {
     std::lock_guard lock(mutex_);
-    if (pending_.empty() || !failure_.empty()) return std::nullopt;
+    if (pending_.empty() || !failure_.empty() || stopping_) return std::nullopt;
     const std::int32_t run = pending_.front();
     pending_.pop_front();
     return run;
@@ -210,51 +259,66 @@ class Coordinator {
     std::lock_guard lock(mutex_);
     return !failure_.empty();
   }
+  // A stop signal seen here or reported by a worker: hand out no more runs.
+  void start_stopping(int signal) {
+    if (stop_signal_ != 0) return;
+    stop_signal_ = signal;
+    stop_deadline_ = Clock::now() + kStopReportWait;
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  // Nothing would be lost by going on: every run is written or queued.
+  bool all_runs_done() {
+    std::lock_guard lock(mutex_);
+    return pending_.empty() && local_finished_ &&
+           std::none_of(held_.begin(), held_.end(),
+                        [](const auto& h) { return h.second.run >= 0; });
+  }
   void compute_locally();
   void assign_or_stop(int rank);
   void receive(const MPI_Status& status);
-  [[noreturn]] void stop_now(const std::string& why, int exit_status);
+  void stop_for_signal();
+  [[noreturn]] void stop_now(const std::string& headline, int exit_status);
   std::string runs_in_flight() const;
 
   const JobSpec& job_;
   const MpiRunOptions& options_;
   const int size_;
-  ResultsTarget target_;  // before writer_: the lock outlives the file
   const std::int32_t skipped_;
 
-  std::mutex mutex_;  // pending_, failure_, local_run_
+  std::mutex mutex_;  // pending_, failure_, stopping_
   std::deque<std::int32_t> pending_;
   std::string failure_;
+  bool stopping_ = false;
   std::atomic<bool> local_finished_{false};
+  std::atomic<std::int32_t> local_run_{-1};  // the run rank 0 computes, -1: none
 
   const std::int32_t total_;
-  std::atomic<std::int32_t> written_{0};
   std::atomic<std::int64_t> failed_fits_{0};
-  StoreWriter writer_;
-  std::optional<Progress> progress_;
+  JobWriter writer_;
 
   struct Held {
     std::int32_t run = -1;  // -1: none
     Clock::time_point last_heard;
   };
-  std::map<int, Held> held_;  // worker rank -> its run (main thread only)
-  int active_workers_ = 0;
+  std::map<int, Held> held_;  // worker rank -> its run
+  std::set<int> active_;      // workers not yet told to stop, failed or stopped by a signal
+  std::set<int> stopped_;     // workers that reported a stop signal
+  int stop_signal_ = 0;
+  Clock::time_point stop_deadline_;
 };
 
 void Coordinator::compute_locally() {
   while (const std::optional<std::int32_t> run = take_run()) {
+    local_run_ = *run;
     try {
       auto record = std::make_shared<const RunRecord>(compute_run(job_, *run));
       failed_fits_.fetch_add(failed_fits_of(*record));
-      writer_.submit([this, record](Hdf5File& file) {
-        write_run(file, job_, *record);
-        target_.publish(file);
-        written_.fetch_add(1);
-        progress_->run_done();
-      });
+      writer_.commit(std::move(record));
     } catch (const std::exception& e) {
       fail("run " + std::to_string(*run) + " on rank 0: " + e.what());
     }
+    local_run_ = -1;
   }
   local_finished_ = true;
 }
@@ -267,7 +331,7 @@ void Coordinator::assign_or_stop(int rank) {
   } else {
     const std::int64_t none = -1;
     held_.erase(rank);
-    --active_workers_;
+    active_.erase(rank);
     MPI_Send(&none, 1, MPI_INT64_T, rank, kStop, MPI_COMM_WORLD);
   }
 }
@@ -290,24 +354,27 @@ void Coordinator::receive(const MPI_Status& status) {
       if (bytes->size() < sizeof header) throw std::runtime_error("short result message");
       std::memcpy(&header, bytes->data(), sizeof header);
       failed_fits_.fetch_add(header.failed_fits);
-      const auto run = static_cast<std::int32_t>(header.run);
-      writer_.submit([this, bytes, run](Hdf5File& file) {
-        write_run_image(file, job_, run,
-                        std::span<const unsigned char>(bytes->data() + sizeof(ResultHeader),
-                                                       bytes->size() - sizeof(ResultHeader)));
-        target_.publish(file);
-        written_.fetch_add(1);
-        progress_->run_done();
-      });
+      writer_.commit_image(static_cast<std::int32_t>(header.run), std::move(bytes),
+                           sizeof(ResultHeader));
+      held_[rank].run = -1;
       assign_or_stop(rank);
       return;
     }
-    case kFailed:
+    case kStopped: {
+      int signal = SIGTERM;
+      if (bytes->size() == sizeof signal) std::memcpy(&signal, bytes->data(), sizeof signal);
+      stopped_.insert(rank);
+      active_.erase(rank);  // it exits by itself; what it held is in flight
+      start_stopping(signal);
+      return;
+    }
+    case kFailed: {
       fail("rank " + std::to_string(rank) + ": " +
            std::string(reinterpret_cast<const char*>(bytes->data()), bytes->size()));
       held_.erase(rank);
-      --active_workers_;  // a failed worker stops by itself
+      active_.erase(rank);  // a failed worker stops by itself
       return;
+    }
     default:
       throw std::runtime_error("unexpected MPI message tag " + std::to_string(status.MPI_TAG) +
                                " from rank " + std::to_string(rank));
@@ -316,6 +383,9 @@ void Coordinator::receive(const MPI_Status& status) {
 
 std::string Coordinator::runs_in_flight() const {
   std::string text;
+  if (const std::int32_t run = local_run_; run >= 0) {
+    text += "\n  run " + std::to_string(run) + " on rank 0";
+  }
   const auto now = Clock::now();
   for (const auto& [rank, held] : held_) {
     if (held.run < 0) continue;
@@ -328,37 +398,65 @@ std::string Coordinator::runs_in_flight() const {
   return text.empty() ? " none" : text;
 }
 
-void Coordinator::stop_now(const std::string& why, int exit_status) {
+void Coordinator::stop_now(const std::string& headline, int exit_status) {
   // Runs already written are complete (each is committed whole); the one the
   // writer may be writing is in its staging group, which --resume discards.
-  std::fprintf(stderr,
-               "\nggk: error: %s\nggk: runs in flight:%s\nggk: %d of %d runs of this session were "
-               "written to %s and are complete; finish the job with `ggk run %s --resume -o %s` "
-               "(any number of ranks, or none)\n",
-               why.c_str(), runs_in_flight().c_str(), written_.load(), total_,
-               target_.output().string().c_str(), job_.source_file.string().c_str(),
-               target_.output().string().c_str());
+  char written[160];
+  std::snprintf(written, sizeof written, "ggk: %d of %d runs of this session were written\n",
+                writer_.written(), total_);
+  writer_.stop_signals().report(headline, "ggk: runs in flight, computed again by that command:" +
+                                              runs_in_flight() + "\n" + written);
   std::fflush(stderr);
-  target_.release_lock();  // a resume on another node must not find it locked
+  release_stopped_workers();
   std::_Exit(exit_status);
+}
+
+void Coordinator::release_stopped_workers() {
+  const std::int64_t none = -1;
+  for (const int rank : stopped_) MPI_Send(&none, 1, MPI_INT64_T, rank, kStop, MPI_COMM_WORLD);
+  stopped_.clear();
+}
+
+// A stop signal here or on a worker. Waits (briefly: mpirun kills a rank 1 s
+// after its SIGTERM) until every worker still computing has reported its own:
+// then the job was interrupted (a Ctrl-C, a scheduler), exit 128 + signal. A
+// worker silent past the wait died before the signal (mpirun stops the others
+// when one dies): it is named with its run, exit 1. When nothing is lost (every
+// run written or queued), the job ends normally instead.
+void Coordinator::stop_for_signal() {
+  if (!active_.empty() && Clock::now() < stop_deadline_) return;
+  std::string dead;
+  for (const int rank : active_) {
+    const auto held = held_.find(rank);
+    dead += (dead.empty() ? "" : ", ") + std::string("rank ") + std::to_string(rank) +
+            (held != held_.end() && held->second.run >= 0
+                 ? " (holding run " + std::to_string(held->second.run) + ")"
+                 : std::string());
+  }
+  if (!dead.empty()) {
+    stop_now("error: " + dead + " died or was killed: it did not answer the " +
+                 StopSignals::name_of(stop_signal_) + " that mpirun then sent every rank",
+             1);
+  }
+  stop_now(std::string(StopSignals::headline_of(stop_signal_)) +
+               (stop_signal_ == SIGTERM ? " (mpirun's, on a Ctrl-C, or a scheduler's)" : ""),
+           128 + stop_signal_);
 }
 
 int Coordinator::run(RunSummary& summary) {
   const auto started = Clock::now();
   const auto fits_per_run = static_cast<std::int32_t>(expand_sweep(job_).size());
-  progress_.emplace(total_, fits_per_run, options_.run.quiet);
-  active_workers_ = size_ - 1;
-  std::signal(SIGTERM, on_stop_signal);
-  std::signal(SIGINT, on_stop_signal);
+  for (int rank = 1; rank < size_; ++rank) active_.insert(rank);
 
   std::thread local([this] { compute_locally(); });
-  while (active_workers_ > 0) {
-    if (g_stop_signal != 0) {
-      local.detach();
-      stop_now(std::string("stopped by ") + (g_stop_signal == SIGINT ? "SIGINT" : "SIGTERM") +
-                   " (under mpirun: a rank died or was killed, and mpirun stopped the others; "
-                   "its message names the rank)",
-               128 + g_stop_signal);
+  while (!active_.empty() || !local_finished_) {
+    if (const int signal = writer_.stop_signals().received()) start_stopping(signal);
+    if (stop_signal_ != 0) {
+      if (!all_runs_done()) {
+        stop_for_signal();
+      } else if (Clock::now() >= stop_deadline_) {
+        break;  // the workers not heard from since are gone; nothing was lost
+      }
     }
     int arrived = 0;
     MPI_Status status;
@@ -370,16 +468,14 @@ int Coordinator::run(RunSummary& summary) {
     const auto now = Clock::now();
     for (const auto& [rank, held] : held_) {
       const double silent = std::chrono::duration<double>(now - held.last_heard).count();
-      if (held.run >= 0 && silent > options_.rank_timeout_seconds) {
-        local.detach();
-        stop_now("rank " + std::to_string(rank) + " stopped answering (silent for " +
+      if (held.run >= 0 && silent > options_.rank_timeout_seconds && stop_signal_ == 0) {
+        stop_now("error: rank " + std::to_string(rank) + " stopped answering (silent for " +
                      std::to_string(static_cast<int>(silent)) + " s) while holding run " +
                      std::to_string(held.run),
                  1);
       }
     }
     if (writer_.failed()) {
-      local.detach();
       try {
         writer_.wait();
       } catch (const std::exception& e) {
@@ -389,33 +485,17 @@ int Coordinator::run(RunSummary& summary) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
-  // The local computation ends with the pending runs; a signal still stops it.
-  while (!local_finished_) {
-    if (g_stop_signal != 0) {
-      local.detach();
-      stop_now("stopped by a signal", 128 + g_stop_signal);
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
   local.join();
   writer_.wait();  // rethrows a write failure
-  progress_.reset();
   if (failed()) {
-    std::fprintf(stderr,
-                 "ggk: error: %s\nggk: the runs written are complete; fix the cause and "
-                 "finish with --resume\n",
-                 failure_.c_str());
+    std::fprintf(stderr, "ggk: error: %s\nggk: %s\n", failure_.c_str(),
+                 writer_.target().temporary().empty() ? writer_.go_on().published.c_str()
+                                                      : writer_.go_on().unpublished.c_str());
     return 1;
   }
-  writer_.submit([this](Hdf5File& file) {
-    write_summary(file, job_);
-    target_.publish(file);
-  });
-  writer_.close();
-  std::signal(SIGTERM, SIG_DFL);
-  std::signal(SIGINT, SIG_DFL);
+  writer_.finish();
 
-  summary.output = target_.output();
+  summary.output = writer_.target().output();
   summary.runs_computed = total_;
   summary.runs_skipped = skipped_;
   summary.fits = static_cast<std::int64_t>(total_) * fits_per_run;
@@ -475,17 +555,19 @@ int run_job_over_mpi(const MpiSession& session, const std::filesystem::path& job
 
   if (rank != 0) return work(*job);
 
-  RunSummary summary;
   int status = 0;
   const Outcome outcome = attempt([&] {
     Coordinator coordinator(*job, options, size, std::move(*opened));
+    RunSummary summary;
     status = coordinator.run(summary);
+    if (status == 0) print_run_summary(*job, summary);
+    std::fflush(stderr);
+    coordinator.release_stopped_workers();  // a stop signal that came after the last run
   });
   if (outcome.status != 0) {
     std::fprintf(stderr, "ggk: error: %s\n", outcome.message.c_str());
     MPI_Abort(MPI_COMM_WORLD, outcome.status);
   }
-  if (status == 0) print_run_summary(*job, summary);
   return status;
 }
 

@@ -14,10 +14,14 @@
 // whose job text or input files differ from rank 0's stops the job. Errors of any
 // rank are printed once, by rank 0; so are progress and the final line.
 //
-// A rank that dies: under plain mpirun the launcher then stops every rank, and
-// rank 0 prints, on its SIGTERM, the runs each rank held and how long each had
-// been silent; a rank that stops answering for `rank_timeout` seconds while the
-// others live on (mpirun --enable-recovery, srun) stops the job the same way.
+// A stop signal (mpirun's SIGTERM to every rank on a Ctrl-C, a scheduler's):
+// each worker tells rank 0 and exits once rank 0 has reported; rank 0 prints an
+// interruption, the runs in flight and the resume command (stop_signals.hpp),
+// exit 128 + signal. A rank that dies: under plain mpirun the launcher then
+// sends the others SIGTERM, and the dead rank is the one that does not report
+// it: rank 0 names it with its run (exit 1). A rank that stops answering for
+// `rank_timeout` seconds while the others live on (mpirun --enable-recovery,
+// srun) stops the job the same way.
 // Every run already written stays complete, and `ggk run --resume` with any
 // number of ranks (or none) finishes the job.
 //

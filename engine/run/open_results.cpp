@@ -102,7 +102,7 @@ std::string string_attribute_or_throw(const Hdf5File& file, const fs::path& outp
   if (!file.has_attribute("/", name)) {
     throw UsageError("cannot resume " + output.string() + ": it has no '" + name +
                      "' attribute, so it is not a ggk results file of a job; choose another "
-                     "output with -o, or --overwrite to replace it");
+                     "output with -o, or --overwrite to replace it (deleting what it holds)");
   }
   try {
     return file.read_string_attribute("/", name);
@@ -118,12 +118,14 @@ void check_same_job(const Hdf5File& file, const JobSpec& job, const fs::path& ou
   const std::string recorded = string_attribute_or_throw(file, output, "job");
   if (const std::string mismatch = layout_mismatch(file); !mismatch.empty()) {
     throw UsageError("cannot resume " + output.string() + ": " + mismatch +
-                     "; start it again with --overwrite, or write to another -o");
+                     "; write to another -o, or start it again with --overwrite (deleting its "
+                     "complete runs)");
   }
   if (const auto difference = job_difference(recorded, job.source_text)) {
     throw UsageError("cannot resume " + output.string() + ": it holds the results of a different " +
                      "job (" + *difference + "; job file " + job.source_file.string() +
-                     "); choose another output with -o, or --overwrite to replace it");
+                     "); choose another output with -o, or --overwrite to replace it (deleting its "
+                     "complete runs)");
   }
   for (const JobInput& input : job.inputs) {
     const std::string attribute = input_attribute_name(input);
@@ -132,7 +134,8 @@ void check_same_job(const Hdf5File& file, const JobSpec& job, const fs::path& ou
       throw UsageError("cannot resume " + output.string() + ": " + input.path + " (" + input.key +
                        ") is not the file these results were computed from (it changed, "
                        "or the file predates ggk recording its inputs); restore it, or "
-                       "start over with --overwrite or another -o");
+                       "write to another -o, or start over with --overwrite (deleting the runs it "
+                       "holds)");
     }
   }
 }
@@ -266,8 +269,10 @@ OpenedResults open_results(const JobSpec& job, const RunOptions& options) {
   OutputState state = output_state(output);  // refuse a device or FIFO before locking
   if (auto problem = results_extension_problem(output)) throw UsageError("output: " + *problem);
   if (state == OutputState::kFile && !options.resume && !options.overwrite) {
-    throw UsageError("output " + output.string() +
-                     " exists: pass --resume to continue it or --overwrite to replace it");
+    throw UsageError(
+        "output " + output.string() +
+        " exists: pass --resume to continue it, or --overwrite to replace it (deleting "
+        "its complete runs)");
   }
   OutputLock lock = OutputLock::acquire(output);
   // Under the lock: what a dead ggk left is ours to clear, and the output is
@@ -288,8 +293,10 @@ OpenedResults open_results(const JobSpec& job, const RunOptions& options) {
     file.emplace(resume(job, options, output, complete, notes));
   } else {
     if (state == OutputState::kFile && !options.overwrite) {
-      throw UsageError("output " + output.string() +
-                       " exists: pass --resume to continue it or --overwrite to replace it");
+      throw UsageError(
+          "output " + output.string() +
+          " exists: pass --resume to continue it, or --overwrite to replace it (deleting "
+          "its complete runs)");
     }
     if (state == OutputState::kEmpty && options.resume) {
       notes.push_back(output.string() +

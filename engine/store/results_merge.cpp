@@ -5,11 +5,13 @@
 
 #include <map>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <system_error>
 #include <vector>
 
 #include "engine/job/job_compare.hpp"
+#include "engine/job/shell_words.hpp"
 #include "engine/job/usage_error.hpp"
 #include "engine/store/hdf5_file.hpp"
 #include "engine/store/output_lock.hpp"
@@ -86,6 +88,26 @@ Gaps gaps(const std::map<std::int32_t, std::size_t>& owner, std::int32_t runs) {
   return result;
 }
 
+// The command that computes the runs a merged file lacks: the shards' job file
+// and overrides (as recorded), --resume onto the merged file.
+std::string finish_command(const Hdf5File& shard, const std::string& program,
+                           const std::filesystem::path& output) {
+  std::vector<std::string> words = {program, "run"};
+  words.push_back(shard.has_attribute("/", "job_file")
+                      ? shard.read_string_attribute("/", "job_file")
+                      : std::string("JOB"));
+  if (shard.has_attribute("/", "job_overrides")) {
+    std::istringstream overrides(shard.read_string_attribute("/", "job_overrides"));
+    for (std::string text; std::getline(overrides, text);) {
+      words.push_back("--set");
+      words.push_back(text);
+    }
+  }
+  for (const char* word : {"--resume", "-o"}) words.emplace_back(word);
+  words.push_back(output.string());
+  return shell_command(words);
+}
+
 }  // namespace
 
 void merge_results(const std::filesystem::path& output,
@@ -140,9 +162,9 @@ void merge_results(const std::filesystem::path& output,
   if (missing.count > 0 && !options.allow_partial) {
     throw UsageError(std::to_string(missing.count) + " of " + std::to_string(runs) +
                      " runs are complete in no shard: " + missing.text +
-                     "; compute them (ggk run --runs A:B), or pass --allow-partial to merge "
-                     "what exists and let `ggk run JOB --resume -o " +
-                     output.string() + "` fill them in");
+                     "; compute them (ggk run --runs A:B into another shard), or pass "
+                     "--allow-partial to merge what exists and then compute them with `" +
+                     finish_command(first, options.program, output) + "`");
   }
 
   // Written under a temporary name, renamed into place when whole.
@@ -180,8 +202,8 @@ void merge_results(const std::filesystem::path& output,
   log << "ggk: merged " << owner.size() << " of " << runs << " runs from " << shards.size()
       << " shards into " << output.string() << "\n";
   if (missing.count > 0) {
-    log << "ggk: runs missing: " << missing.text << "; finish with `ggk run JOB --resume -o "
-        << output.string() << "`\n";
+    log << "ggk: runs missing: " << missing.text << "; compute them with `"
+        << finish_command(first, options.program, output) << "`\n";
   }
 }
 

@@ -4,8 +4,9 @@
 //
 // The shards must hold the same job (job text and input files, compared); a run
 // complete in two shards is refused (overlap), and runs complete in none are
-// reported as gaps, refused unless allow_partial, in which case `ggk run JOB
-// --resume -o OUT` computes them later. Only complete runs are taken; their
+// reported as gaps, refused unless allow_partial, in which case the printed
+// `ggk run JOB [--set K=V]... --resume -o OUT` (the shards' job file and
+// overrides) computes them later. Only complete runs are taken; their
 // groups are copied whole (HDF5 object copy), the summary is rebuilt in run
 // order. OUT is written under a temporary name beside it and renamed into place
 // when complete, so a failed merge leaves no OUT and an existing OUT is refused.
@@ -13,11 +14,15 @@
 #include <filesystem>
 #include <ostream>
 #include <span>
+#include <string>
 
 namespace ggk::engine {
 
 struct MergeOptions {
   bool allow_partial = false;
+  // The ggk program as invoked: the command printed to compute missing runs
+  // (`PROGRAM run JOB [--set K=V]... --resume -o OUT`) starts with it.
+  std::string program = "ggk";
 };
 
 // Throws UsageError for what the user can fix (unreadable or foreign shards,

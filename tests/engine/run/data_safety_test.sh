@@ -18,8 +18,11 @@
 #                  damage (exit 1), --resume recomputes the damaged run
 #   resume_rules   a comment-only edit of the job resumes; a changed key is
 #                  named; /dev/null and a directory as output are user errors
-#   interrupt      Ctrl-C mid-job: how to resume is printed, the lock is gone,
-#                  --resume finishes to the reference results
+#   interrupt      SIGINT, SIGTERM, a --runs shard and a failed write (no room)
+#                  mid-job, with --set overrides: the lock is gone and the
+#                  printed command, pasted into a shell, finishes to the
+#                  reference results; before the first run lands, --overwrite's
+#                  printed command is said to delete the old results
 # Environment: GGK (the binary), GGK_SOURCE_DIR.
 set -euo pipefail
 case_name=$1
@@ -57,7 +60,20 @@ wait_for() { for _ in $(seq 1200); do [ -e "$1" ] && return 0; sleep 0.1; done; 
 status_of() { local s=0; "$@" || s=$?; echo $s; }
 
 # The results of a job computed without incident.
-reference() { "$GGK" run "$1" -j 2 -q -o "$2" 2>/dev/null; }
+reference() { "$GGK" run "$1" -j 2 -q -o "$2" "${@:3}" 2>/dev/null; }
+
+# The first command a ggk message printed in backquotes after "the job with".
+printed_command() { grep -o 'the job with `[^`]*`' "$1" | head -n 1 | sed 's/^the job with `//; s/`$//'; }
+
+# Runs the command printed in file $1 as a shell would read it pasted; the
+# results equal $2, in $3.
+resume_and_compare() {
+  local command
+  command=$(printed_command "$1")
+  [ -n "$command" ] || fail "no command printed: $(cat "$1")"
+  bash -c "$command" 2>/dev/null || fail "the printed command failed: $command"
+  "$GGK" diff "$2" "$3" >/dev/null || fail "resumed with '$command': results differ"
+}
 
 case $case_name in
 second_writer)
@@ -237,19 +253,52 @@ resume_rules)
   done
   ;;
 interrupt)
-  write_job "$scratch/job.toml" 8
-  reference "$scratch/job.toml" "$scratch/reference.h5"
-  out=$scratch/x.h5
-  "$GGK" run "$scratch/job.toml" -j 1 -o "$out" 2>"$scratch/err" & pid=$!
+  # Every stop prints the command that goes on, repeating the invocation (--set,
+  # --runs, -j, -o, quoted where needed): pasted into a shell verbatim, it
+  # finishes the job to the reference results.
+  write_job "$scratch/job.toml" 3
+  sets=(--set runs=8 --set 'sweep.sigma=[5.0]' --set 'sweep.kernels=[48, 64]')
+  reference "$scratch/job.toml" "$scratch/reference.h5" "${sets[@]}"
+  for signal in INT TERM; do
+    out="$scratch/x-$signal it's.h5"  # words the shell must read back quoted
+    "$GGK" run "$scratch/job.toml" -j 1 "${sets[@]}" -o "$out" 2>"$scratch/err" & pid=$!
+    wait_for "$out"
+    kill -s $signal $pid
+    s=0; wait $pid || s=$?
+    want=$([ $signal = INT ] && echo 130 || echo 143)
+    [ "$s" = "$want" ] || fail "SIG$signal: status $s (expected $want: died of SIG$signal)"
+    grep -q "SIG$signal); every run written to $out is complete\|SIG$signal; every run written to $out is complete" "$scratch/err" ||
+      fail "SIG$signal: $(cat "$scratch/err")"
+    [ ! -e "$out.lock" ] || fail "lock file left after SIG$signal"
+    resume_and_compare "$scratch/err" "$scratch/reference.h5" "$out"
+  done
+  # A shard (--runs) resumes as the same shard, and the shards then merge.
+  "$GGK" run "$scratch/job.toml" -j 2 -q "${sets[@]}" --runs 0:3 -o "$scratch/a.h5" 2>/dev/null
+  out=$scratch/b.h5
+  "$GGK" run "$scratch/job.toml" -j 1 "${sets[@]}" --runs 3:8 -o "$out" 2>"$scratch/err" & pid=$!
   wait_for "$out"
   kill -INT $pid
-  s=0; wait $pid || s=$?
-  [ "$s" = 130 ] || fail "SIGINT: status $s (expected 130: died of SIGINT)"
-  grep -q "interrupted (SIGINT); every run written to $out is complete" "$scratch/err" &&
-    grep -q -- "--resume -o $out" "$scratch/err" || fail "no resume hint: $(cat "$scratch/err")"
-  [ ! -e "$out.lock" ] || fail "lock file left after SIGINT"
-  "$GGK" run "$scratch/job.toml" -j 2 -q --resume -o "$out"
-  "$GGK" diff "$scratch/reference.h5" "$out" >/dev/null || fail "resumed results differ"
+  wait $pid && fail "the shard survived SIGINT"
+  /usr/bin/env bash -c "$(printed_command "$scratch/err")" 2>/dev/null || fail "shard resume failed"
+  "$GGK" merge "$scratch/m.h5" "$scratch/a.h5" "$out" 2>/dev/null || fail "resumed shard does not merge"
+  "$GGK" diff "$scratch/reference.h5" "$scratch/m.h5" >/dev/null || fail "merged shards differ"
+  # A run that fails (no room to write) says how to finish; with room, that does.
+  full=$(stat -c %s "$scratch/reference.h5")
+  out=$scratch/full.h5
+  s=$(status_of bash -c 'trap "" XFSZ; ulimit -f '$((full / 2 / 1024))'; exec "$@"' _ \
+    "$GGK" run "$scratch/job.toml" -j 1 -q "${sets[@]}" -o "$out" 2>"$scratch/err")
+  [ "$s" = 1 ] || fail "the limited run: status $s: $(cat "$scratch/err")"
+  resume_and_compare "$scratch/err" "$scratch/reference.h5" "$out"
+  # Before the first run lands, --overwrite's old results stay; the message
+  # says that the command it prints deletes them.
+  "$GGK" run "$scratch/job.toml" -q -o "$scratch/old.h5" 2>/dev/null
+  "$GGK" run "$scratch/job.toml" -j 1 "${sets[@]}" --overwrite -o "$scratch/old.h5" \
+    2>"$scratch/err" & pid=$!
+  wait_for "$scratch/old.h5.part"
+  kill -INT $pid
+  wait $pid && fail "--overwrite survived SIGINT"
+  grep -q "is as it was .* --overwrite -o $scratch/old.h5\`, whose --overwrite deletes the runs" \
+    "$scratch/err" || fail "--overwrite not said to delete: $(cat "$scratch/err")"
   ;;
 *)
   fail "unknown case $case_name"

@@ -3,9 +3,13 @@
 # call (ctest registers each, see tests/CMakeLists.txt).
 #   ranks  mpiexec -n 1..4 writes the file a single process writes (ggk diff)
 #   shards --runs A:B shards merged equal the whole job; merge refuses foreign and
-#          overlapping shards, reports gaps, and --allow-partial + --resume completes
+#          overlapping shards, reports gaps, and --allow-partial's printed
+#          command completes (with --set overrides too)
 #   kill   kill -9 a worker: the job stops naming the rank and its run; every run
 #          written stays complete; --resume (2 ranks, then none) finishes it identically
+#   interrupt  SIGINT / SIGTERM to mpirun, SIGTERM to every rank: reported as an
+#          interruption (no rank blamed), no lock left, the printed command
+#          finishes the job identically
 # Environment: GGK (the binary), GGK_SOURCE_DIR, MPIEXEC (launcher with its flags,
 # e.g. "mpiexec --oversubscribe --allow-run-as-root"), MPIEXEC_NUMPROC_FLAG.
 set -euo pipefail
@@ -18,7 +22,19 @@ fail() { echo "FAIL: $*" >&2; exit 1; }
 jobs_dir=$GGK_SOURCE_DIR/jobs
 
 # A job's single-process reference file.
-reference() { "$GGK" run "$1" -j 2 -q -o "$2" 2>/dev/null; }
+reference() { "$GGK" run "$1" -j 2 -q -o "$2" "${@:3}" 2>/dev/null; }
+
+# The first command a ggk message printed in backquotes after "with".
+printed_command() { grep -o 'with `[^`]*`' "$1" | head -n 1 | sed 's/^with `//; s/`$//'; }
+
+# The pid of the ggk process of rank $1 (empty when none).
+rank_pid() {
+  for pid in $(pgrep -x ggk || true); do
+    if tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -x "OMPI_COMM_WORLD_RANK=$1" >/dev/null; then
+      echo "$pid"
+    fi
+  done
+}
 
 case $case_name in
 ranks)
@@ -59,10 +75,17 @@ shards)
     fail "gap not reported (status $status): $(cat "$scratch/err")"
   status=0; "$GGK" run "$job" -q --runs 4:9 -o "$scratch/y.h5" 2>"$scratch/err" || status=$?
   [ $status = 2 ] && grep -q "is not a range of runs" "$scratch/err" || fail "--runs 4:9 accepted"
-  # A partial merge, finished by --resume, equals the whole.
-  "$GGK" merge --allow-partial "$scratch/partial.h5" "$scratch/a.h5" "$scratch/c.h5" 2>/dev/null
-  "$GGK" run "$job" -q --resume -o "$scratch/partial.h5"
+  # A partial merge, finished by the command it prints, equals the whole; with
+  # --set overrides too.
+  "$GGK" merge --allow-partial "$scratch/partial.h5" "$scratch/a.h5" "$scratch/c.h5" 2>"$scratch/err"
+  bash -c "$(printed_command "$scratch/err")" 2>/dev/null || fail "merge's command: $(cat "$scratch/err")"
   "$GGK" diff "$scratch/whole.h5" "$scratch/partial.h5" || fail "partial merge + resume differs"
+  sets=(--set runs=4 --set 'sweep.sigma=[5.0]')
+  reference "$job" "$scratch/whole4.h5" "${sets[@]}"
+  "$GGK" run "$job" -q "${sets[@]}" --runs 1:2 -o "$scratch/s1.h5" 2>/dev/null
+  "$GGK" merge --allow-partial "$scratch/partial4.h5" "$scratch/s1.h5" 2>"$scratch/err"
+  bash -c "$(printed_command "$scratch/err")" 2>/dev/null || fail "merge's command: $(cat "$scratch/err")"
+  "$GGK" diff "$scratch/whole4.h5" "$scratch/partial4.h5" || fail "partial merge with --set differs"
   # ggk diff itself: another seed differs, with exit 1.
   sed 's/^seed = .*/seed = 99/' "$job" >"$jobs_dir/.distributed-seed-$$.toml"
   trap 'rm -rf "$scratch" "$jobs_dir/.distributed-seed-$$.toml"' EXIT
@@ -101,6 +124,44 @@ kill)
   "${launcher[@]}" $(np 2) "$GGK" run "$job" -j 1 -q --resume --runs 0:5 -o "$scratch/killed.h5"
   "$GGK" run "$job" -q --resume -o "$scratch/killed.h5"
   "$GGK" diff "$scratch/single.h5" "$scratch/killed.h5" || fail "resumed file differs"
+  ;;
+interrupt)
+  # A stop by the user or a scheduler is an interruption, not a dead rank: the
+  # lock is gone and the printed command, pasted into a shell, finishes the job.
+  # mpirun's own exit status is 1 whenever mpirun itself was signalled (Open MPI
+  # 4.1); the ranks' 128 + signal shows when only they are (a scheduler's stop).
+  mkdir "$scratch/jobs" && cp -r "$jobs_dir/arenas" "$scratch/jobs/"
+  sed 's/^runs = .*/runs = 3/' "$jobs_dir/ci-khepera.toml" >"$scratch/jobs/k.toml"
+  job=$scratch/jobs/k.toml
+  sets=(--set runs=7)
+  reference "$job" "$scratch/single.h5" "${sets[@]}"
+  for how in INT-mpirun TERM-mpirun TERM-ranks; do
+    out=$scratch/$how.h5
+    set -m  # mpirun in a process group of its own, as a shell's job
+    "${launcher[@]}" $(np 3) "$GGK" run "$job" -j 1 -q "${sets[@]}" -o "$out" >"$scratch/log" 2>&1 &
+    launcher_pid=$!
+    set +m
+    for _ in $(seq 600); do [ -e "$out" ] && break; sleep 0.1; done
+    [ -e "$out" ] || fail "$how: no run written"
+    signal=${how%%-*}
+    if [ "${how#*-}" = mpirun ]; then
+      kill -s "$signal" "$launcher_pid"
+    else
+      # shellcheck disable=SC2046
+      kill -s "$signal" $(rank_pid 0) $(rank_pid 1) $(rank_pid 2)  # at once, as a scheduler
+    fi
+    status=0; wait "$launcher_pid" || status=$?
+    [ $status != 0 ] || fail "$how: the job did not stop"
+    [ "$how" != TERM-ranks ] || [ $status = 143 ] || fail "$how: status $status, not 143"
+    grep -q "ggk: stopped by SIG$signal\|ggk: stopped by SIGTERM\|interrupted (SIG$signal)" "$scratch/log" ||
+      { cat "$scratch/log"; fail "$how: not reported as an interruption"; }
+    ! grep -q "died\|killed" "$scratch/log" || { cat "$scratch/log"; fail "$how: blamed a rank"; }
+    [ ! -e "$out.lock" ] || fail "$how: lock file left behind"
+    command=$(printed_command "$scratch/log")
+    grep -q "under mpirun as before" "$scratch/log" || fail "$how: no word of mpirun"
+    bash -c "$command" 2>/dev/null || fail "$how: the printed command failed: $command"
+    "$GGK" diff "$scratch/single.h5" "$out" >/dev/null || fail "$how: resumed results differ"
+  done
   ;;
 *)
   fail "unknown case $case_name"

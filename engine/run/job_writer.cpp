@@ -1,0 +1,67 @@
+#include "engine/run/job_writer.hpp"
+
+#include <utility>
+
+#include "engine/job/sweep.hpp"
+#include "engine/run/job_runner.hpp"
+#include "engine/store/run_store.hpp"
+
+namespace ggk::engine {
+
+namespace {
+
+StopSignals::Report stop_report(const ResultsTarget& target, const GoOnText& go_on) {
+  return {target.output(), target.temporary(), target.lock_file(), go_on.published,
+          go_on.unpublished};
+}
+
+}  // namespace
+
+JobWriter::JobWriter(const JobSpec& job, const RunOptions& options, OpenedResults opened,
+                     std::int32_t runs_to_write, StopSignals::Mode mode)
+    : job_(job),
+      target_(std::move(opened.target)),
+      go_on_(go_on_text(job, options, target_.output(), mode == StopSignals::Mode::kRecord)),
+      stop_signals_(mode, stop_report(target_, go_on_)),
+      progress_(std::in_place, runs_to_write, static_cast<std::int32_t>(expand_sweep(job).size()),
+                options.quiet),
+      writer_(std::move(opened.file), StoreWriter::kDefaultQueueCapacity,
+              StoreWriter::WhenIdle::kCloseForReaders) {}
+
+void JobWriter::committed() {
+  stop_signals_.results_published();
+  written_.fetch_add(1);
+  progress_->run_done();
+}
+
+void JobWriter::commit(std::shared_ptr<const RunRecord> record) {
+  writer_.submit([this, record = std::move(record)](Hdf5File& file) {
+    write_run(file, job_, *record);
+    target_.publish(file);  // a new file takes its name with its first run
+    committed();
+  });
+}
+
+void JobWriter::commit_image(std::int32_t run,
+                             std::shared_ptr<const std::vector<unsigned char>> bytes,
+                             std::size_t offset) {
+  writer_.submit([this, run, bytes = std::move(bytes), offset](Hdf5File& file) {
+    write_run_image(file, job_, run,
+                    std::span<const unsigned char>(bytes->data() + offset, bytes->size() - offset));
+    target_.publish(file);
+    committed();
+  });
+}
+
+void JobWriter::finish() {
+  writer_.wait();
+  progress_.reset();  // its final line before the summary's
+  writer_.submit([this](Hdf5File& file) {
+    write_summary(file, job_);
+    target_.publish(file);
+  });
+  writer_.close();
+  stop_signals_.job_complete();
+}
+
+}  // namespace ggk::engine
