@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_spec.hpp"
-#include "engine/store/hdf5_file.hpp"
 #include "engine/store/output_lock.hpp"
 
 namespace ggk::engine {

@@ -9,8 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/usage_error.hpp"
-#include "engine/store/hdf5_file.hpp"
 #include "engine/store/run_store.hpp"
 
 namespace ggk::engine {

@@ -9,9 +9,9 @@
 #include <system_error>
 #include <vector>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_compare.hpp"
 #include "engine/job/usage_error.hpp"
-#include "engine/store/hdf5_file.hpp"
 #include "engine/store/output_lock.hpp"
 #include "engine/store/run_store.hpp"
 

@@ -17,9 +17,9 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_spec.hpp"
 #include "engine/job/run_record.hpp"
-#include "engine/store/hdf5_file.hpp"
 
 namespace ggk::engine {
 

@@ -21,10 +21,10 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_file.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/run/progress.hpp"
-#include "engine/store/hdf5_file.hpp"
 #include "engine/store/results_info.hpp"
 #include "engine/store/run_store.hpp"
 #include "engine/tasks/discrete_protocol.hpp"
