@@ -17,6 +17,7 @@
 #include "engine/run/open_results.hpp"
 #include "engine/run/progress.hpp"
 #include "engine/run/stop_signals.hpp"
+#include "engine/store/results_layout.hpp"
 #include "engine/store/run_store.hpp"
 #include "engine/store/store_writer.hpp"
 #include "engine/tasks/task_list.hpp"
@@ -34,7 +35,7 @@ RunRecord compute_run(const JobSpec& job, std::int32_t run) {
 std::int64_t failed_fits_of(const RunRecord& record) {
   std::int64_t failed = 0;
   for (const FitRecord& fit : record.fits) {
-    if (fit.status == "invalid" || fit.status == "solver_failed") ++failed;
+    if (is_failed_status(fit.status)) ++failed;
   }
   return failed;
 }

@@ -15,6 +15,7 @@
 
 #include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/store/results_layout.hpp"
 #include "engine/store/run_store.hpp"
 
 namespace ggk::engine {
@@ -158,23 +159,23 @@ void print_info(const std::filesystem::path& path, std::ostream& out, InfoFormat
     throw UsageError(e.what());
   }
   const Hdf5File& file = *opened;
-  if (!file.has_attribute("/", "task") || !file.has_attribute("/", "job")) {
-    throw UsageError(path.string() + " is not a ggk results file (no job or task attribute)");
+  ResultsHeader recorded;
+  try {
+    recorded = read_results_header(file);
+  } catch (const ResultsHeaderError& e) {
+    throw UsageError(e.what());
   }
-  const std::string task = file.read_string_attribute("/", "task");
-  const auto runs = static_cast<std::int32_t>(file.read_int64_attribute("/", "runs"));
+  const std::string& task = recorded.task;
+  const auto runs = static_cast<std::int32_t>(recorded.runs);
   const std::vector<std::int32_t> complete = complete_runs(file, task, runs);
   const bool text = format == InfoFormat::kText;
   if (text) {
     out << "file:     " << path.string() << "\n"
-        << "job file: " << file.read_string_attribute("/", "job_file") << "\n"
+        << "job file: " << recorded.job_file << "\n"
         << "task:     " << task << "\n"
-        << "created:  " << file.read_string_attribute("/", "created") << " by ggk "
-        << file.read_string_attribute("/", "ggk_version") << " ("
-        << file.read_string_attribute("/", "git") << ")\n";
-    if (file.has_attribute("/", "blas")) {
-      out << "blas:     " << file.read_string_attribute("/", "blas") << "\n";
-    }
+        << "created:  " << recorded.created << " by ggk " << recorded.ggk_version << " ("
+        << recorded.git << ")\n";
+    if (!recorded.blas.empty()) out << "blas:     " << recorded.blas << "\n";
     out << "runs:     " << complete.size() << " of " << runs << " complete\n";
   }
   // The rows of every complete run (what the summary holds once the job ends).
@@ -206,9 +207,9 @@ void print_info(const std::filesystem::path& path, std::ostream& out, InfoFormat
       p.values.resize(columns.size() - first_metric);
     }
     ++p.fits;
-    const std::string status = as_text(row[status_column]);
-    if (status == "invalid" || status == "solver_failed") ++p.failed;
-    if (status == "max_iterations") ++p.capped;
+    const std::optional<FitStatus> status = fit_status_from_text(as_text(row[status_column]));
+    if (status && is_failed(*status)) ++p.failed;
+    if (status == FitStatus::kMaxIterations) ++p.capped;
     for (std::size_t c = first_metric; c < columns.size(); ++c) {
       p.values[c - first_metric].push_back(as_double(row[c]));
     }
