@@ -105,13 +105,6 @@ std::string as_text(const TableValue& v) {
   return std::to_string(static_cast<long long>(as_double(v)));
 }
 
-// A rate or a fraction (success_rate, success_from_A, collision_fraction) lies in
-// [0, 1]: so does its interval.
-bool is_rate(const std::string& metric) {
-  return metric.starts_with("success") || metric.find("rate") != std::string::npos ||
-         metric.find("fraction") != std::string::npos;
-}
-
 Interval clipped_to_rate(Interval ci) {
   if (!std::isnan(ci.low)) ci.low = std::clamp(ci.low, 0.0, 1.0);
   if (!std::isnan(ci.high)) ci.high = std::clamp(ci.high, 0.0, 1.0);
@@ -121,8 +114,8 @@ Interval clipped_to_rate(Interval ci) {
 // A rate whose values at a point are all 0 or 1 is a per-run success (e.g.
 // success from A): its interval is Wilson's; any other is a mean with Student's
 // t (clipped to [0, 1] for a rate).
-Interval metric_interval(const std::vector<double>& values, const std::string& metric) {
-  if (is_rate(metric)) {
+Interval metric_interval(const std::vector<double>& values, MetricKind kind) {
+  if (kind == MetricKind::kRate) {
     // Wilson's for 0/1 values; Student's t clipped to [0, 1] for fractions.
     std::int64_t successes = 0, trials = 0;
     bool binary = true;
@@ -151,7 +144,8 @@ struct Point {
   int fits = 0, failed = 0, capped = 0;
 };
 
-void print_info(const std::filesystem::path& path, std::ostream& out, InfoFormat format) {
+void print_info(const std::filesystem::path& path, std::ostream& out, InfoFormat format,
+                MetricKindLookup metric_kind) {
   std::optional<Hdf5File> opened;
   try {
     opened.emplace(Hdf5File::open_waiting_for_lock(path, true, std::chrono::seconds(10)));
@@ -227,7 +221,8 @@ void print_info(const std::filesystem::path& path, std::ostream& out, InfoFormat
       for (const std::string& k : p.key) out << csv_field(k) << ",";
       out << p.fits << "," << p.failed << "," << p.capped;
       for (std::size_t m = 0; m < p.values.size(); ++m) {
-        const Interval ci = metric_interval(p.values[m], columns[first_metric + m].name);
+        const Interval ci =
+            metric_interval(p.values[m], metric_kind(task, columns[first_metric + m].name));
         out << "," << number_text(ci.estimate, 17) << "," << number_text(ci.low, 17) << ","
             << number_text(ci.high, 17);
       }
@@ -256,7 +251,8 @@ void print_info(const std::filesystem::path& path, std::ostream& out, InfoFormat
     line.insert(line.end(),
                 {std::to_string(p.fits), std::to_string(p.failed), std::to_string(p.capped)});
     for (std::size_t m = 0; m < p.values.size(); ++m) {
-      const Interval ci = metric_interval(p.values[m], columns[first_metric + m].name);
+      const Interval ci =
+          metric_interval(p.values[m], metric_kind(task, columns[first_metric + m].name));
       line.push_back(std::isnan(ci.low) ? number_text(ci.estimate)
                                         : number_text(ci.estimate) + " [" + number_text(ci.low) +
                                               ", " + number_text(ci.high) + "]");
@@ -277,12 +273,13 @@ void print_info(const std::filesystem::path& path, std::ostream& out, InfoFormat
 
 }  // namespace
 
-void print_results_info(const std::filesystem::path& path, std::ostream& out, InfoFormat format) {
+void print_results_info(const std::filesystem::path& path, std::ostream& out, InfoFormat format,
+                        MetricKindLookup metric_kind) {
   // What is printed is gathered first: a file that fails half way (an attribute
   // of the wrong type, damage) prints one error, not half a report.
   std::ostringstream report;
   try {
-    print_info(path, report, format);
+    print_info(path, report, format, metric_kind);
   } catch (const UsageError&) {
     throw;
   } catch (const std::runtime_error& e) {

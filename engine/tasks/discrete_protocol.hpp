@@ -14,6 +14,7 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -70,6 +71,13 @@ inline const std::vector<std::string>& discrete_metric_names() {
       "success_rate", "mean_steps_to_goal", "lspi_iterations",  "graph_nodes",
       "edges",        "median_degree",      "geodesic_stretch", "kernel_gap"};
   return names;
+}
+
+// The rates among them: success_rate, and success_from_<name> of each named
+// start (0 or 1 per fit); the others are means.
+inline MetricKind discrete_metric_kind(std::string_view metric) {
+  return metric == "success_rate" || metric.starts_with("success_from_") ? MetricKind::kRate
+                                                                         : MetricKind::kMean;
 }
 
 // For every state (row of state_vectors), the nearest visited state (itself when
