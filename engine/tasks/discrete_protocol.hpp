@@ -85,8 +85,8 @@ inline MetricKind discrete_metric_kind(std::string_view metric) {
 // to the lowest state id, exactly as a scan over the visited states in id order.
 // With no visited state, every unvisited state gets state 0 at infinite distance.
 // GGK values of unvisited states follow the continuous form
-// SP(s, c) = ED(s, n(s)) + SP(n(s), c). A k-d tree: O(n log n) on grids, where
-// the scan was O(n^2). Queries run as oneTBB tasks.
+// SP(s, c) = ED(s, n(s)) + SP(n(s), c). A k-d tree: O(n log n) on grids (a scan
+// over the visited states would be O(n^2)). Queries run as oneTBB tasks.
 void nearest_visited_states(const kernels::RowMatrixXd& state_vectors,
                             const std::vector<std::uint8_t>& visited,
                             std::vector<std::int32_t>& nearest, std::vector<double>& distance);
