@@ -308,7 +308,8 @@ int main(int argc, char** argv) {
     if (*validate) return validate_command(job_path, output, overrides);
     if (*info) {
       engine::print_results_info(info_path, std::cout,
-                                 info_csv ? engine::InfoFormat::kCsv : engine::InfoFormat::kText);
+                                 info_csv ? engine::InfoFormat::kCsv : engine::InfoFormat::kText,
+                                 engine::metric_kind);
       return 0;
     }
     if (*verify) return engine::verify_results(verify_path, std::cout) ? 0 : 1;

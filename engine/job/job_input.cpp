@@ -147,8 +147,4 @@ JobInput read_job_input(const TomlTableReader& table, std::string_view key,
   return input;
 }
 
-std::string input_attribute_name(const JobInput& input) {
-  return "input:" + input.key;
-}
-
 }  // namespace ggk::engine

@@ -1,8 +1,8 @@
 #pragma once
 // A file a job file names (the maze's map_file, the Khepera's arena_file), read
 // whole when the job is loaded. Its text is stored with the results (root
-// attribute "input:<key>") and `ggk run --resume` refuses a results file whose
-// inputs differ from the files now on disk, as it refuses another job file.
+// attribute "input:<key>", engine/store/results_layout.hpp) and `ggk run --resume` refuses a
+// results file whose inputs differ from the files now on disk, as it refuses another job file.
 //
 // Job files and the files they name are read through read_regular_file(): only
 // regular files (symlinks followed), at most kMaxInputFileBytes, and never a read
@@ -49,8 +49,5 @@ struct JobInput {
 JobInput read_job_input(const TomlTableReader& table, std::string_view key,
                         const std::filesystem::path& job_dir, const std::string& name,
                         std::string_view what);
-
-// The name of the results file's root attribute that holds `input`'s text.
-std::string input_attribute_name(const JobInput& input);
 
 }  // namespace ggk::engine

@@ -37,6 +37,13 @@ struct NamedArray {
   ElementType element_type = ElementType::kFloat64;  // 2-D: kFloat64 or kInt32
 };
 
+// What a metric is, which decides the confidence interval `ggk info` gives its
+// mean over runs: a mean (Student's t), or a rate in [0, 1] (Wilson's score
+// interval when every run's value is 0 or 1, a per-run success such as success
+// from A; else Student's t clipped to [0, 1]). Each task declares its metrics'
+// kinds (TaskDefinition::metric_kind).
+enum class MetricKind { kMean, kRate };
+
 struct FitRecord {
   SweepPoint point;
   std::string status;   // kernels::to_string(LspiStatus), or "invalid" when the fit could not start

@@ -16,6 +16,7 @@
 #include "engine/run/job_writer.hpp"
 #include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
+#include "engine/store/results_layout.hpp"
 #include "engine/tasks/task_list.hpp"
 #include "kernels/blas_runtime.hpp"
 
@@ -31,7 +32,7 @@ RunRecord compute_run(const JobSpec& job, std::int32_t run) {
 std::int64_t failed_fits_of(const RunRecord& record) {
   std::int64_t failed = 0;
   for (const FitRecord& fit : record.fits) {
-    if (fit.status == "invalid" || fit.status == "solver_failed") ++failed;
+    if (is_failed_status(fit.status)) ++failed;
   }
   return failed;
 }

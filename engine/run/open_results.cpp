@@ -7,7 +7,6 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
-#include <ctime>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
@@ -17,8 +16,10 @@
 #include "engine/job/job_input.hpp"
 #include "engine/job/usage_error.hpp"
 #include "engine/run/job_runner.hpp"
+#include "engine/store/results_layout.hpp"
 #include "engine/store/results_verify.hpp"
 #include "engine/store/run_store.hpp"
+#include "engine/store/utc_time.hpp"
 #include "kernels/blas_runtime.hpp"
 // GGK_GIT_DESCRIBE, written at build time (engine/CMakeLists.txt).
 #include "ggk_git_describe.hpp"
@@ -32,15 +33,6 @@ namespace ggk::engine {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string utc_now() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char buffer[32];
-  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return buffer;
-}
 
 void check_output_directory(const fs::path& output) {
   const fs::path dir = output.parent_path().empty() ? fs::path(".") : output.parent_path();
@@ -86,51 +78,40 @@ Hdf5File open_as_user(Open&& open) {
   }
 }
 
-// Records which runs a shard file is for (root attribute runs_selected = [A, B]);
-// a whole job's file has none. Rewritten on every open: a resumed file is for the
-// selection it was last run with.
-void mark_selection(Hdf5File& file, const JobSpec& job, const std::optional<RunRange>& runs) {
-  if (file.has_attribute("/", "runs_selected")) file.remove_attribute("/", "runs_selected");
-  if (runs && !(runs->first == 0 && runs->last == job.runs)) {
-    const std::int64_t range[2] = {runs->first, runs->last};
-    file.write_int64_array_attribute("/", "runs_selected", range);
-  }
-}
-
-std::string string_attribute_or_throw(const Hdf5File& file, const fs::path& output,
-                                      const std::string& name) {
-  if (!file.has_attribute("/", name)) {
-    throw UsageError("cannot resume " + output.string() + ": it has no '" + name +
-                     "' attribute, so it is not a ggk results file of a job; choose another "
-                     "output with -o, or --overwrite to replace it (deleting what it holds)");
-  }
-  try {
-    return file.read_string_attribute("/", name);
-  } catch (const std::runtime_error& e) {
-    throw UsageError("cannot resume " + output.string() + ": its '" + name +
-                     "' attribute is not a string, so it is not a ggk results file: " + e.what());
-  }
+// Which runs a shard file is for (root attribute runs_selected = [A, B]); none
+// for a whole job's file.
+std::optional<RunsSelected> selection(const JobSpec& job, const std::optional<RunRange>& runs) {
+  if (!runs || (runs->first == 0 && runs->last == job.runs)) return std::nullopt;
+  return RunsSelected{runs->first, runs->last};
 }
 
 // The file is the same job's (parsed job, input files), or a UsageError says
 // what differs.
 void check_same_job(const Hdf5File& file, const JobSpec& job, const fs::path& output) {
-  const std::string recorded = string_attribute_or_throw(file, output, "job");
-  if (const std::string mismatch = layout_mismatch(file); !mismatch.empty()) {
+  ResultsHeader header;
+  try {
+    header = read_results_header(file);
+  } catch (const ResultsHeaderError& e) {
+    throw UsageError(
+        "cannot resume " + output.string() + ": " + e.what() +
+        "; choose another output with -o, or --overwrite to replace it (deleting what it "
+        "holds)");
+  }
+  if (const std::string mismatch = layout_mismatch(header.layout); !mismatch.empty()) {
     throw UsageError("cannot resume " + output.string() + ": " + mismatch +
                      "; write to another -o, or start it again with --overwrite (deleting its "
                      "complete runs)");
   }
-  if (const auto difference = job_difference(recorded, job.source_text)) {
+  if (const auto difference = job_difference(header.job, job.source_text)) {
     throw UsageError("cannot resume " + output.string() + ": it holds the results of a different " +
                      "job (" + *difference + "; job file " + job.source_file.string() +
                      "); choose another output with -o, or --overwrite to replace it (deleting its "
                      "complete runs)");
   }
   for (const JobInput& input : job.inputs) {
-    const std::string attribute = input_attribute_name(input);
-    if (!file.has_attribute("/", attribute) ||
-        string_attribute_or_throw(file, output, attribute) != input.text) {
+    const auto recorded = std::find_if(header.inputs.begin(), header.inputs.end(),
+                                       [&](const RecordedInput& r) { return r.key == input.key; });
+    if (recorded == header.inputs.end() || recorded->text != input.text) {
       throw UsageError("cannot resume " + output.string() + ": " + input.path + " (" + input.key +
                        ") is not the file these results were computed from (it changed, "
                        "or the file predates ggk recording its inputs); restore it, or "
@@ -188,34 +169,36 @@ Hdf5File resume(const JobSpec& job, const RunOptions& options, const fs::path& o
     discard_run(file, job.task, run);
     return true;
   });
-  mark_selection(file, job, options.runs);
+  // A resumed file is for the selection it was last run with.
+  write_runs_selected(file, selection(job, options.runs));
   file.flush();
   return file;
+}
+
+// The root attributes of a new results file of `job`.
+ResultsHeader new_header(const JobSpec& job, const RunOptions& options) {
+  ResultsHeader header;
+  header.job = job.source_text;
+  header.job_file = job.source_file.string();
+  for (const JobInput& input : job.inputs) header.inputs.push_back({input.key, input.text});
+  header.ggk_version = GGK_VERSION;
+  header.git = GGK_GIT_DESCRIBE;
+  header.blas = kernels::blas_info().name;
+  header.created = utc_now();
+  header.task = job.task;
+  header.runs = job.runs;
+  for (const std::string& text : job.overrides) {
+    header.job_overrides += (header.job_overrides.empty() ? "" : "\n") + text;
+  }
+  header.runs_selected = selection(job, options.runs);
+  return header;
 }
 
 Hdf5File create_new(const JobSpec& job, const RunOptions& options, const fs::path& path) {
   Hdf5File file =
       open_as_user([&] { return Hdf5File::create(path, Hdf5File::CreateMode::kFailIfExists); });
-  file.write_string_attribute("/", "job", job.source_text);
-  file.write_string_attribute("/", "job_file", job.source_file.string());
-  for (const JobInput& input : job.inputs) {
-    file.write_string_attribute("/", input_attribute_name(input), input.text);
-  }
-  file.write_string_attribute("/", "ggk_version", GGK_VERSION);
-  file.write_string_attribute("/", "git", GGK_GIT_DESCRIBE);
-  file.write_string_attribute("/", "blas", kernels::blas_info().name);
-  file.write_string_attribute("/", "created", utc_now());
-  file.write_string_attribute("/", "task", job.task);
-  file.write_int64_attribute("/", "runs", job.runs);
-  if (!job.overrides.empty()) {
-    std::string overrides;
-    for (const std::string& text : job.overrides)
-      overrides += (overrides.empty() ? "" : "\n") + text;
-    file.write_string_attribute("/", "job_overrides", overrides);
-  }
-  write_layout_version(file);
+  write_results_header(file, new_header(job, options));
   file.create_group("/" + job.task);
-  mark_selection(file, job, options.runs);
   file.flush();
   return file;
 }

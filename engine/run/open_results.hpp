@@ -9,8 +9,8 @@
 //    atomic rename when its first run is written and flushed: until then the
 //    old results stay as they were, and a kill, Ctrl-C, full disk or error
 //    leaves them untouched (the .part file of a dead ggk is removed by the next
-//    ggk on that output). A kill can no longer leave an empty results file;
-//    `--resume` on an empty one (from older versions) starts it afresh;
+//    ggk on that output). So a kill never leaves an empty results file;
+//    `--resume` on an empty one (left by ggk before .part files) starts it afresh;
 //  - --resume continues a results file of the same job: the jobs are compared
 //    as parsed TOML (a comment edit does not matter; a changed key is named),
 //    the input files by content; the runs marked complete are read in full
@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_spec.hpp"
-#include "engine/store/hdf5_file.hpp"
 #include "engine/store/output_lock.hpp"
 
 namespace ggk::engine {

@@ -8,7 +8,6 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
-#include <ctime>
 #include <fstream>
 #include <iterator>
 #include <optional>
@@ -16,6 +15,7 @@
 #include <utility>
 
 #include "engine/job/usage_error.hpp"
+#include "engine/store/utc_time.hpp"
 
 namespace ggk::engine {
 
@@ -45,15 +45,6 @@ std::string process_start(pid_t pid) {
     if (index == 22) return field;
   }
   return {};
-}
-
-std::string utc_now() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char buffer[32];
-  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return buffer;
 }
 
 std::optional<std::string> read_text(const fs::path& path) {

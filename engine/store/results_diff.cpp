@@ -9,8 +9,9 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/usage_error.hpp"
-#include "engine/store/hdf5_file.hpp"
+#include "engine/store/results_layout.hpp"
 #include "engine/store/run_store.hpp"
 
 namespace ggk::engine {
@@ -19,16 +20,13 @@ namespace {
 
 constexpr std::size_t kMaxReported = 10;
 const std::array<std::string, 1> kWallClockColumns = {"fit_seconds"};
-constexpr std::array<std::string_view, 5> kProvenance = {"job_file", "git", "ggk_version", "blas",
-                                                         "runs_selected"};
 
 bool ignored_attribute(const std::string& object, const std::string& name) {
   if (name == "fit_seconds") return true;
-  return object == "/" && name == "created";
+  return object == "/" && root_attribute_role(name) == RootAttributeRole::kWallClock;
 }
 bool provenance(const std::string& object, const std::string& name) {
-  return object == "/" &&
-         std::find(kProvenance.begin(), kProvenance.end(), name) != kProvenance.end();
+  return object == "/" && root_attribute_role(name) == RootAttributeRole::kProvenance;
 }
 
 std::string child(const std::string& group, const std::string& name) {
@@ -144,8 +142,10 @@ Hdf5File open_results_file(const std::filesystem::path& path) {
   } catch (const std::exception& e) {
     throw UsageError(e.what());
   }
-  if (!file->has_attribute("/", "job") || !file->has_attribute("/", "task")) {
-    throw UsageError(path.string() + " is not a ggk results file (no job or task attribute)");
+  try {
+    (void)read_results_header(*file);
+  } catch (const ResultsHeaderError& e) {
+    throw UsageError(e.what());
   }
   return std::move(*file);
 }

@@ -13,8 +13,9 @@
 #include <variant>
 #include <vector>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/usage_error.hpp"
-#include "engine/store/hdf5_file.hpp"
+#include "engine/store/results_layout.hpp"
 #include "engine/store/run_store.hpp"
 
 namespace ggk::engine {
@@ -104,13 +105,6 @@ std::string as_text(const TableValue& v) {
   return std::to_string(static_cast<long long>(as_double(v)));
 }
 
-// A rate or a fraction (success_rate, success_from_A, collision_fraction) lies in
-// [0, 1]: so does its interval.
-bool is_rate(const std::string& metric) {
-  return metric.starts_with("success") || metric.find("rate") != std::string::npos ||
-         metric.find("fraction") != std::string::npos;
-}
-
 Interval clipped_to_rate(Interval ci) {
   if (!std::isnan(ci.low)) ci.low = std::clamp(ci.low, 0.0, 1.0);
   if (!std::isnan(ci.high)) ci.high = std::clamp(ci.high, 0.0, 1.0);
@@ -120,8 +114,8 @@ Interval clipped_to_rate(Interval ci) {
 // A rate whose values at a point are all 0 or 1 is a per-run success (e.g.
 // success from A): its interval is Wilson's; any other is a mean with Student's
 // t (clipped to [0, 1] for a rate).
-Interval metric_interval(const std::vector<double>& values, const std::string& metric) {
-  if (is_rate(metric)) {
+Interval metric_interval(const std::vector<double>& values, MetricKind kind) {
+  if (kind == MetricKind::kRate) {
     // Wilson's for 0/1 values; Student's t clipped to [0, 1] for fractions.
     std::int64_t successes = 0, trials = 0;
     bool binary = true;
@@ -144,125 +138,143 @@ std::string csv_field(const std::string& text) {
   return quoted + "\"";
 }
 
-struct Point {
-  std::vector<std::string> key;             // basis, kernels, sigma, solver, lambda
-  std::vector<std::vector<double>> values;  // per metric, one value per fit
-  int fits = 0, failed = 0, capped = 0;
+// What `ggk info` reads from a results file, as plain data: the header, how many
+// runs are complete, and every fit of the complete runs (fit_metrics rows).
+struct FitRow {
+  std::int64_t point = 0;           // the sweep point's index
+  std::vector<std::string> key;     // its axis values as text
+  std::optional<FitStatus> status;  // none for a status this ggk does not know
+  std::vector<double> values;       // per metric column
 };
 
-void print_info(const std::filesystem::path& path, std::ostream& out, InfoFormat format) {
-  std::optional<Hdf5File> opened;
+struct ResultsContents {
+  ResultsHeader header;
+  std::size_t complete_runs = 0;
+  bool summary_written = false;           // /<task>/summary exists
+  std::vector<std::string> axis_names;    // the sweep point's axes (basis, kernels, ...)
+  std::vector<std::string> metric_names;  // the metrics the task reports, then fit_seconds
+  std::vector<FitRow> fits;               // in run order
+};
+
+// Per sweep point: its axis values, counts and each metric's interval over runs.
+struct PointSummary {
+  std::vector<std::string> key;
+  int fits = 0, failed = 0, capped = 0;
+  std::vector<Interval> metrics;
+};
+
+Hdf5File open_for_reading(const std::filesystem::path& path) {
   try {
-    opened.emplace(Hdf5File::open_waiting_for_lock(path, true, std::chrono::seconds(10)));
+    return Hdf5File::open_waiting_for_lock(path, true, std::chrono::seconds(10));
   } catch (const std::exception& e) {
     throw UsageError(e.what());
   }
-  const Hdf5File& file = *opened;
-  if (!file.has_attribute("/", "task") || !file.has_attribute("/", "job")) {
-    throw UsageError(path.string() + " is not a ggk results file (no job or task attribute)");
+}
+
+// The rows of every complete run (what the summary holds once the job ends, so
+// also what a running or killed job has done so far). Their columns: run,
+// sweep_point, the point's axes up to status, then the metrics and fit_seconds.
+ResultsContents read_contents(const Hdf5File& file) {
+  ResultsContents contents;
+  try {
+    contents.header = read_results_header(file);
+  } catch (const ResultsHeaderError& e) {
+    throw UsageError(e.what());
   }
-  const std::string task = file.read_string_attribute("/", "task");
-  const auto runs = static_cast<std::int32_t>(file.read_int64_attribute("/", "runs"));
+  const std::string& task = contents.header.task;
+  const auto runs = static_cast<std::int32_t>(contents.header.runs);
   const std::vector<std::int32_t> complete = complete_runs(file, task, runs);
-  const bool text = format == InfoFormat::kText;
-  if (text) {
-    out << "file:     " << path.string() << "\n"
-        << "job file: " << file.read_string_attribute("/", "job_file") << "\n"
-        << "task:     " << task << "\n"
-        << "created:  " << file.read_string_attribute("/", "created") << " by ggk "
-        << file.read_string_attribute("/", "ggk_version") << " ("
-        << file.read_string_attribute("/", "git") << ")\n";
-    if (file.has_attribute("/", "blas")) {
-      out << "blas:     " << file.read_string_attribute("/", "blas") << "\n";
-    }
-    out << "runs:     " << complete.size() << " of " << runs << " complete\n";
-  }
-  // The rows of every complete run (what the summary holds once the job ends).
+  contents.complete_runs = complete.size();
+  contents.summary_written = file.exists("/" + task + "/summary");
   std::vector<TableColumn> columns;
-  std::vector<TableRow> rows;
+  std::size_t status_column = 0;
   for (const std::int32_t run : complete) {
     const std::string table = run_group(task, run) + "/fit_metrics";
-    if (columns.empty()) columns = file.read_table_columns(table);
-    for (TableRow& row : file.read_table(table)) rows.push_back(std::move(row));
-  }
-  if (text && !file.exists("/" + task + "/summary") &&
-      static_cast<std::int32_t>(complete.size()) < runs) {
-    out << "summary:  not written yet (the sweep is running, or was interrupted: "
-           "ggk run --resume finishes it)\n";
-  }
-  if (rows.empty()) return;
-  // Columns: run, sweep_point, the point's axes up to status, then the metrics
-  // (whatever the task reports) and fit_seconds.
-  std::size_t status_column = 0;
-  for (std::size_t c = 0; c < columns.size(); ++c) {
-    if (columns[c].name == "status") status_column = c;
-  }
-  const std::size_t first_metric = status_column + 1;
-  std::map<std::int64_t, Point> by_point;
-  for (const TableRow& row : rows) {
-    Point& p = by_point[static_cast<std::int64_t>(as_double(row[1]))];
-    if (p.key.empty()) {
-      for (std::size_t c = 2; c < status_column; ++c) p.key.push_back(as_text(row[c]));
-      p.values.resize(columns.size() - first_metric);
+    if (columns.empty()) {
+      columns = file.read_table_columns(table);
+      for (std::size_t c = 0; c < columns.size(); ++c) {
+        if (columns[c].name == "status") status_column = c;
+      }
+      for (std::size_t c = 2; c < status_column; ++c) {
+        contents.axis_names.push_back(columns[c].name);
+      }
+      for (std::size_t c = status_column + 1; c < columns.size(); ++c) {
+        contents.metric_names.push_back(columns[c].name);
+      }
     }
-    ++p.fits;
-    const std::string status = as_text(row[status_column]);
-    if (status == "invalid" || status == "solver_failed") ++p.failed;
-    if (status == "max_iterations") ++p.capped;
-    for (std::size_t c = first_metric; c < columns.size(); ++c) {
-      p.values[c - first_metric].push_back(as_double(row[c]));
+    for (const TableRow& row : file.read_table(table)) {
+      FitRow fit;
+      fit.point = static_cast<std::int64_t>(as_double(row[1]));
+      for (std::size_t c = 2; c < status_column; ++c) fit.key.push_back(as_text(row[c]));
+      fit.status = fit_status_from_text(as_text(row[status_column]));
+      for (std::size_t c = status_column + 1; c < columns.size(); ++c) {
+        fit.values.push_back(as_double(row[c]));
+      }
+      contents.fits.push_back(std::move(fit));
     }
   }
-  if (format == InfoFormat::kCsv) {
-    for (std::size_t c = 2; c < status_column; ++c) out << csv_field(columns[c].name) << ",";
-    out << "fits,failed,max_iterations";
-    for (std::size_t c = first_metric; c < columns.size(); ++c) {
-      const std::string& name = columns[c].name;
-      out << "," << csv_field(name) << "," << csv_field(name + "_ci_low") << ","
-          << csv_field(name + "_ci_high");
+  return contents;
+}
+
+// The fits grouped by sweep point, in point order, with each metric's interval
+// by its kind.
+std::vector<PointSummary> summarise_points(const ResultsContents& contents,
+                                           MetricKindLookup metric_kind) {
+  struct Values {
+    PointSummary summary;
+    std::vector<std::vector<double>> per_metric;  // one value per fit
+  };
+  std::map<std::int64_t, Values> by_point;
+  for (const FitRow& fit : contents.fits) {
+    Values& point = by_point[fit.point];
+    if (point.summary.key.empty()) {
+      point.summary.key = fit.key;
+      point.per_metric.resize(contents.metric_names.size());
+    }
+    ++point.summary.fits;
+    if (fit.status && is_failed(*fit.status)) ++point.summary.failed;
+    if (fit.status == FitStatus::kMaxIterations) ++point.summary.capped;
+    for (std::size_t m = 0; m < point.per_metric.size(); ++m) {
+      point.per_metric[m].push_back(fit.values[m]);
+    }
+  }
+  std::vector<PointSummary> points;
+  for (auto& [index, point] : by_point) {
+    for (std::size_t m = 0; m < point.per_metric.size(); ++m) {
+      const MetricKind kind = metric_kind(contents.header.task, contents.metric_names[m]);
+      point.summary.metrics.push_back(metric_interval(point.per_metric[m], kind));
+    }
+    points.push_back(std::move(point.summary));
+  }
+  return points;
+}
+
+// One line per sweep point: its axes, the counts, and per metric the estimate
+// and the interval's bounds to 17 digits (nothing for a file without fits).
+void write_csv(const ResultsContents& contents, std::span<const PointSummary> points,
+               std::ostream& out) {
+  if (points.empty()) return;
+  for (const std::string& axis : contents.axis_names) out << csv_field(axis) << ",";
+  out << "fits,failed,max_iterations";
+  for (const std::string& name : contents.metric_names) {
+    out << "," << csv_field(name) << "," << csv_field(name + "_ci_low") << ","
+        << csv_field(name + "_ci_high");
+  }
+  out << "\n";
+  for (const PointSummary& p : points) {
+    for (const std::string& k : p.key) out << csv_field(k) << ",";
+    out << p.fits << "," << p.failed << "," << p.capped;
+    for (const Interval& ci : p.metrics) {
+      out << "," << number_text(ci.estimate, 17) << "," << number_text(ci.low, 17) << ","
+          << number_text(ci.high, 17);
     }
     out << "\n";
-    for (const auto& [index, p] : by_point) {
-      for (const std::string& k : p.key) out << csv_field(k) << ",";
-      out << p.fits << "," << p.failed << "," << p.capped;
-      for (std::size_t m = 0; m < p.values.size(); ++m) {
-        const Interval ci = metric_interval(p.values[m], columns[first_metric + m].name);
-        out << "," << number_text(ci.estimate, 17) << "," << number_text(ci.low, 17) << ","
-            << number_text(ci.high, 17);
-      }
-      out << "\n";
-    }
-    return;
   }
-  int fits = 0, failed = 0, capped = 0;
-  for (const auto& [index, p] : by_point) {
-    fits += p.fits;
-    failed += p.failed;
-    capped += p.capped;
-  }
-  out << "summary:  " << fits << " fits (" << failed << " failed, " << capped
-      << " stopped at max_iterations); per sweep point: mean over runs [95 % CI: Student t, "
-         "Wilson for 0/1 metrics]\n";
-  // A table of aligned cells: the header, then one line per sweep point.
-  std::vector<std::vector<std::string>> cells;
-  std::vector<std::string> header;
-  for (std::size_t c = 2; c < status_column; ++c) header.push_back(columns[c].name);
-  header.insert(header.end(), {"fits", "failed", "max_it"});
-  for (std::size_t c = first_metric; c < columns.size(); ++c) header.push_back(columns[c].name);
-  cells.push_back(header);
-  for (const auto& [index, p] : by_point) {
-    std::vector<std::string> line = p.key;
-    line.insert(line.end(),
-                {std::to_string(p.fits), std::to_string(p.failed), std::to_string(p.capped)});
-    for (std::size_t m = 0; m < p.values.size(); ++m) {
-      const Interval ci = metric_interval(p.values[m], columns[first_metric + m].name);
-      line.push_back(std::isnan(ci.low) ? number_text(ci.estimate)
-                                        : number_text(ci.estimate) + " [" + number_text(ci.low) +
-                                              ", " + number_text(ci.high) + "]");
-    }
-    cells.push_back(line);
-  }
-  std::vector<std::size_t> widths(header.size(), 0);
+}
+
+// Lines of cells, right-aligned in columns two spaces apart.
+void write_aligned(const std::vector<std::vector<std::string>>& cells, std::ostream& out) {
+  std::vector<std::size_t> widths(cells.front().size(), 0);
   for (const auto& line : cells) {
     for (std::size_t i = 0; i < line.size(); ++i) widths[i] = std::max(widths[i], line[i].size());
   }
@@ -274,14 +286,74 @@ void print_info(const std::filesystem::path& path, std::ostream& out, InfoFormat
   }
 }
 
+// The file's provenance and runs, then (when there are fits) the totals and a
+// table of the sweep points, each metric as "mean [low, high]" to 4 digits.
+void write_text(const std::filesystem::path& path, const ResultsContents& contents,
+                std::span<const PointSummary> points, std::ostream& out) {
+  const ResultsHeader& header = contents.header;
+  out << "file:     " << path.string() << "\n"
+      << "job file: " << header.job_file << "\n"
+      << "task:     " << header.task << "\n"
+      << "created:  " << header.created << " by ggk " << header.ggk_version << " (" << header.git
+      << ")\n";
+  if (!header.blas.empty()) out << "blas:     " << header.blas << "\n";
+  out << "runs:     " << contents.complete_runs << " of " << header.runs << " complete\n";
+  if (!contents.summary_written &&
+      static_cast<std::int64_t>(contents.complete_runs) < header.runs) {
+    out << "summary:  not written yet (the sweep is running, or was interrupted: "
+           "ggk run --resume finishes it)\n";
+  }
+  if (points.empty()) return;
+  int fits = 0, failed = 0, capped = 0;
+  for (const PointSummary& p : points) {
+    fits += p.fits;
+    failed += p.failed;
+    capped += p.capped;
+  }
+  out << "summary:  " << fits << " fits (" << failed << " failed, " << capped
+      << " stopped at max_iterations); per sweep point: mean over runs [95 % CI: Student t, "
+         "Wilson for 0/1 metrics]\n";
+  std::vector<std::vector<std::string>> cells;
+  std::vector<std::string> header_cells = contents.axis_names;
+  header_cells.insert(header_cells.end(), {"fits", "failed", "max_it"});
+  header_cells.insert(header_cells.end(), contents.metric_names.begin(),
+                      contents.metric_names.end());
+  cells.push_back(std::move(header_cells));
+  for (const PointSummary& p : points) {
+    std::vector<std::string> line = p.key;
+    line.insert(line.end(),
+                {std::to_string(p.fits), std::to_string(p.failed), std::to_string(p.capped)});
+    for (const Interval& ci : p.metrics) {
+      line.push_back(std::isnan(ci.low) ? number_text(ci.estimate)
+                                        : number_text(ci.estimate) + " [" + number_text(ci.low) +
+                                              ", " + number_text(ci.high) + "]");
+    }
+    cells.push_back(std::move(line));
+  }
+  write_aligned(cells, out);
+}
+
+void print_info(const std::filesystem::path& path, std::ostream& out, InfoFormat format,
+                MetricKindLookup metric_kind) {
+  const Hdf5File file = open_for_reading(path);
+  const ResultsContents contents = read_contents(file);
+  const std::vector<PointSummary> points = summarise_points(contents, metric_kind);
+  if (format == InfoFormat::kCsv) {
+    write_csv(contents, points, out);
+  } else {
+    write_text(path, contents, points, out);
+  }
+}
+
 }  // namespace
 
-void print_results_info(const std::filesystem::path& path, std::ostream& out, InfoFormat format) {
+void print_results_info(const std::filesystem::path& path, std::ostream& out, InfoFormat format,
+                        MetricKindLookup metric_kind) {
   // What is printed is gathered first: a file that fails half way (an attribute
   // of the wrong type, damage) prints one error, not half a report.
   std::ostringstream report;
   try {
-    print_info(path, report, format);
+    print_info(path, report, format, metric_kind);
   } catch (const UsageError&) {
     throw;
   } catch (const std::runtime_error& e) {

@@ -9,14 +9,21 @@
 #include <filesystem>
 #include <ostream>
 #include <span>
+#include <string_view>
+
+#include "engine/job/run_record.hpp"
 
 namespace ggk::engine {
 
 enum class InfoFormat { kText, kCsv };
 
+// The kind of a metric column of a task's results (a mean, or a rate in [0, 1]),
+// which decides its interval; the engine passes tasks/task_list.hpp's metric_kind.
+using MetricKindLookup = MetricKind (*)(std::string_view task, std::string_view metric);
+
 // Throws UsageError when the file cannot be opened or is not a ggk results file.
-void print_results_info(const std::filesystem::path& file, std::ostream& out,
-                        InfoFormat format = InfoFormat::kText);
+void print_results_info(const std::filesystem::path& file, std::ostream& out, InfoFormat format,
+                        MetricKindLookup metric_kind);
 
 // A 95 % confidence interval: [low, high] around the estimate; NaN bounds when
 // there are too few values for one.

@@ -10,11 +10,12 @@
 #include <system_error>
 #include <vector>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_compare.hpp"
 #include "engine/job/shell_words.hpp"
 #include "engine/job/usage_error.hpp"
-#include "engine/store/hdf5_file.hpp"
 #include "engine/store/output_lock.hpp"
+#include "engine/store/results_layout.hpp"
 #include "engine/store/run_store.hpp"
 
 namespace ggk::engine {
@@ -24,39 +25,23 @@ namespace {
 struct Shard {
   std::filesystem::path path;
   Hdf5File file;
+  ResultsHeader header;
 };
 
-Hdf5File open_shard(const std::filesystem::path& path) {
+Shard open_shard(const std::filesystem::path& path) {
   try {
     Hdf5File file = Hdf5File::open_waiting_for_lock(path, true, std::chrono::seconds(10));
-    for (const char* attribute : {"job", "task", "runs"}) {
-      if (!file.has_attribute("/", attribute)) {
-        throw UsageError(path.string() + " is not a ggk results file (no '" + attribute +
-                         "' attribute)");
-      }
-    }
-    if (const std::string mismatch = layout_mismatch(file); !mismatch.empty()) {
+    ResultsHeader header = read_results_header(file);
+    if (const std::string mismatch = layout_mismatch(header.layout); !mismatch.empty()) {
       throw UsageError("cannot merge " + path.string() + ": " + mismatch +
                        "; compute its runs again with this ggk");
     }
-    return file;
+    return {path, std::move(file), std::move(header)};
   } catch (const UsageError&) {
     throw;
   } catch (const std::exception& e) {
     throw UsageError(e.what());
   }
-}
-
-// The root attributes that say which job a file holds besides the job text
-// itself (compared as parsed TOML): the task and the inputs' texts.
-std::map<std::string, std::string> job_identity(const Hdf5File& file) {
-  std::map<std::string, std::string> identity;
-  for (const std::string& name : file.attribute_names("/")) {
-    if (name == "task" || name.rfind("input:", 0) == 0) {
-      identity[name] = file.read_string_attribute("/", name);
-    }
-  }
-  return identity;
 }
 
 // The runs in [0, runs) that no shard holds: how many, and as "3, 5-9, 12"
@@ -90,18 +75,14 @@ Gaps gaps(const std::map<std::int32_t, std::size_t>& owner, std::int32_t runs) {
 
 // The command that computes the runs a merged file lacks: the shards' job file
 // and overrides (as recorded), --resume onto the merged file.
-std::string finish_command(const Hdf5File& shard, const std::string& program,
+std::string finish_command(const ResultsHeader& shard, const std::string& program,
                            const std::filesystem::path& output) {
   std::vector<std::string> words = {program, "run"};
-  words.push_back(shard.has_attribute("/", "job_file")
-                      ? shard.read_string_attribute("/", "job_file")
-                      : std::string("JOB"));
-  if (shard.has_attribute("/", "job_overrides")) {
-    std::istringstream overrides(shard.read_string_attribute("/", "job_overrides"));
-    for (std::string text; std::getline(overrides, text);) {
-      words.push_back("--set");
-      words.push_back(text);
-    }
+  words.push_back(shard.job_file.empty() ? std::string("JOB") : shard.job_file);
+  std::istringstream overrides(shard.job_overrides);
+  for (std::string text; std::getline(overrides, text);) {
+    words.push_back("--set");
+    words.push_back(text);
   }
   for (const char* word : {"--resume", "-o"}) words.emplace_back(word);
   words.push_back(output.string());
@@ -126,18 +107,20 @@ void merge_results(const std::filesystem::path& output,
         throw UsageError(path.string() + " is named twice");
       }
     }
-    shards.push_back({path, open_shard(path)});
+    shards.push_back(open_shard(path));
   }
-  const Hdf5File& first = shards.front().file;
-  const std::string task = first.read_string_attribute("/", "task");
-  const auto runs = static_cast<std::int32_t>(first.read_int64_attribute("/", "runs"));
-  const auto identity = job_identity(first);
-  const std::string job_text = first.read_string_attribute("/", "job");
+  const ResultsHeader& first = shards.front().header;
+  const std::string& task = first.task;
+  const auto runs = static_cast<std::int32_t>(first.runs);
   for (const Shard& shard : shards) {
-    std::optional<std::string> difference =
-        job_difference(job_text, shard.file.read_string_attribute("/", "job"),
-                       shards.front().path.string(), shard.path.string());
-    if (!difference && job_identity(shard.file) != identity) difference = "its input files differ";
+    // Besides the job text (compared as parsed TOML), the task and the inputs'
+    // texts say which job a file holds.
+    std::optional<std::string> difference = job_difference(
+        first.job, shard.header.job, shards.front().path.string(), shard.path.string());
+    if (!difference && shard.header.task != first.task) difference = "its task differs";
+    if (!difference && shard.header.inputs != first.inputs) {
+      difference = "its input files differ";
+    }
     if (difference) {
       throw UsageError(shard.path.string() + " holds another job than " +
                        shards.front().path.string() + " (" + *difference +
@@ -178,16 +161,9 @@ void merge_results(const std::filesystem::path& output,
         throw UsageError(e.what());
       }
     }();
-    for (const std::string& name : first.attribute_names("/")) {
-      if (name == "runs_selected") continue;  // the merged file is the whole job's
-      if (name == "runs") {
-        merged.write_int64_attribute("/", name, runs);
-      } else if (name == "layout") {
-        write_layout_version(merged);
-      } else {
-        merged.write_string_attribute("/", name, first.read_string_attribute("/", name));
-      }
-    }
+    ResultsHeader header = first;
+    header.runs_selected.reset();  // the merged file is the whole job's
+    write_results_header(merged, header);
     merged.create_group("/" + task);
     for (const auto& [run, s] : owner) {
       merged.copy_from(shards[s].file, run_group(task, run), run_group(task, run));

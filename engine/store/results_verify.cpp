@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/job/usage_error.hpp"
+#include "engine/store/results_layout.hpp"
 #include "engine/store/run_store.hpp"
 
 namespace ggk::engine {
@@ -84,13 +85,14 @@ bool verify_results(const std::filesystem::path& path, std::ostream& out) {
            is_scratch(std::string_view(object).substr(1));
   };
   walk.visit("/");
-  std::string task;
   std::int64_t runs = -1, complete = 0;
   try {
-    task = file.read_string_attribute("/", "task");
-    runs = file.read_int64_attribute("/", "runs");
+    const ResultsHeader header = read_results_header(file);
+    runs = header.runs;
     complete = static_cast<std::int64_t>(
-        complete_runs(file, task, static_cast<std::int32_t>(runs)).size());
+        complete_runs(file, header.task, static_cast<std::int32_t>(runs)).size());
+  } catch (const ResultsHeaderError& e) {
+    if (walk.problems.empty()) throw UsageError(one_line(e.what()));
   } catch (const std::runtime_error& e) {
     if (walk.problems.empty()) {
       throw UsageError(path.string() + " is not a ggk results file (" + one_line(e.what()) + ")");

@@ -16,7 +16,7 @@
 #include <ostream>
 #include <string>
 
-#include "engine/store/hdf5_file.hpp"
+#include "engine/hdf5/hdf5_file.hpp"
 
 namespace ggk::engine {
 

@@ -233,23 +233,6 @@ void clear_run_slots(Hdf5File& file, const std::string& group, const std::string
 
 }  // namespace
 
-void write_layout_version(Hdf5File& file) {
-  if (file.has_attribute("/", "layout")) file.remove_attribute("/", "layout");
-  file.write_int64_attribute("/", "layout", kLayoutVersion);
-}
-
-std::string layout_mismatch(const Hdf5File& file) {
-  const std::int64_t layout =
-      file.has_attribute("/", "layout") ? file.read_int64_attribute("/", "layout") : 1;
-  if (layout == kLayoutVersion) return {};
-  return "it has results layout " + std::to_string(layout) + " (" +
-         (layout < kLayoutVersion ? "written by an older ggk: fit groups named by the swept axes, "
-                                    "fixed-length strings, integers stored as float64"
-                                  : "written by a newer ggk") +
-         ") and this ggk writes layout " + std::to_string(kLayoutVersion) +
-         ", so it cannot add runs to it (ggk info, diff and verify still read it)";
-}
-
 bool is_scratch(std::string_view root_member) {
   return root_member.starts_with(std::string_view(kStagingRoot).substr(1));
 }

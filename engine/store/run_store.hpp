@@ -17,21 +17,11 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_spec.hpp"
 #include "engine/job/run_record.hpp"
-#include "engine/store/hdf5_file.hpp"
 
 namespace ggk::engine {
-
-// The layout of results files this ggk writes, recorded as the root attribute
-// "layout": 2 = fit groups named by every axis value, variable-length UTF-8 strings
-// in tables, integer arrays stored as integers. Files without it (layout 1, older
-// ggk) are read by info, diff and verify, but runs are not added to them.
-inline constexpr std::int64_t kLayoutVersion = 2;
-void write_layout_version(Hdf5File& file);
-// Why runs of this ggk cannot be added to the file ("written by an older ggk ..."),
-// or an empty string when they can.
-std::string layout_mismatch(const Hdf5File& file);
 
 std::string run_group(const std::string& task, std::int32_t run);  // "/maze/run_007"
 // Where a run is written before it is moved into place: "/.staging/maze/run_007".

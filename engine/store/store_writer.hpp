@@ -49,7 +49,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "engine/store/hdf5_file.hpp"
+#include "engine/hdf5/hdf5_file.hpp"
 
 namespace ggk::engine {
 

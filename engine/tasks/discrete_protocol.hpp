@@ -14,6 +14,7 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -72,13 +73,20 @@ inline const std::vector<std::string>& discrete_metric_names() {
   return names;
 }
 
+// The rates among them: success_rate, and success_from_<name> of each named
+// start (0 or 1 per fit); the others are means.
+inline MetricKind discrete_metric_kind(std::string_view metric) {
+  return metric == "success_rate" || metric.starts_with("success_from_") ? MetricKind::kRate
+                                                                         : MetricKind::kMean;
+}
+
 // For every state (row of state_vectors), the nearest visited state (itself when
 // visited) and the Euclidean distance to it, (row(s) - row(v)).norm(); ties go
 // to the lowest state id, exactly as a scan over the visited states in id order.
 // With no visited state, every unvisited state gets state 0 at infinite distance.
 // GGK values of unvisited states follow the continuous form
-// SP(s, c) = ED(s, n(s)) + SP(n(s), c). A k-d tree: O(n log n) on grids, where
-// the scan was O(n^2). Queries run as oneTBB tasks.
+// SP(s, c) = ED(s, n(s)) + SP(n(s), c). A k-d tree: O(n log n) on grids (a scan
+// over the visited states would be O(n^2)). Queries run as oneTBB tasks.
 void nearest_visited_states(const kernels::RowMatrixXd& state_vectors,
                             const std::vector<std::uint8_t>& visited,
                             std::vector<std::int32_t>& nearest, std::vector<double>& distance);

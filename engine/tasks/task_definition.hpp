@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string_view>
 
 #include "engine/job/job_spec.hpp"
 #include "engine/job/run_record.hpp"
@@ -29,10 +30,15 @@ using RunComputation = RunRecord (*)(const JobSpec& job, std::int32_t run,
 // creates the output file (engine/run/memory_check.hpp).
 using RunMemoryEstimator = RunMemoryEstimate (*)(const JobSpec& job);
 
+// The kind of each metric the task's fits report (run_record.hpp: MetricKind),
+// by the metric's name.
+using MetricKindOf = MetricKind (*)(std::string_view metric);
+
 struct TaskDefinition {
   TaskTable table;  // table.name is the task's name
   RunComputation compute_run = nullptr;
   RunMemoryEstimator estimate_run_bytes = nullptr;
+  MetricKindOf metric_kind = nullptr;  // nullptr: every metric is a mean
 };
 
 }  // namespace ggk::engine

@@ -18,9 +18,9 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_file.hpp"
 #include "engine/job/sweep.hpp"
-#include "engine/store/hdf5_file.hpp"
 #include "engine/store/run_store.hpp"
 #include "engine/tasks/task_list.hpp"
 #include "support/files.hpp"

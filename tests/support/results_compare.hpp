@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_spec.hpp"
-#include "engine/store/hdf5_file.hpp"
 
 namespace ggk::test_support {
 

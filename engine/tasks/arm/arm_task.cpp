@@ -132,7 +132,8 @@ TaskDefinition arm_task_definition() {
           },
           [](const JobSpec& job) {
             return estimate_arm_run(task_config_as<sims::arm::ArmConfig>(job), job);
-          }};
+          },
+          discrete_metric_kind};
 }
 
 }  // namespace ggk::engine

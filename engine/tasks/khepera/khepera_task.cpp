@@ -672,7 +672,8 @@ TaskDefinition khepera_task_definition() {
           },
           [](const JobSpec& job) {
             return estimate_khepera_run(task_config_as<KheperaTaskConfig>(job), job);
-          }};
+          },
+          khepera_metric_kind};
 }
 
 }  // namespace ggk::engine

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/job/job_spec.hpp"
@@ -38,6 +39,11 @@ inline const std::vector<std::string>& khepera_metric_names() {
       "mean_return", "collision_fraction", "mean_steps",       "lspi_iterations", "graph_nodes",
       "edges",       "median_degree",      "geodesic_stretch", "kernel_gap"};
   return names;
+}
+
+// The rate among them: collision_fraction; the others are means.
+inline MetricKind khepera_metric_kind(std::string_view metric) {
+  return metric == "collision_fraction" ? MetricKind::kRate : MetricKind::kMean;
 }
 
 RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::int32_t run,

@@ -53,7 +53,8 @@ TaskDefinition maze_task_definition() {
           },
           [](const JobSpec& job) {
             return estimate_maze_run(task_config_as<sims::maze::MazeConfig>(job), job);
-          }};
+          },
+          discrete_metric_kind};
 }
 
 }  // namespace ggk::engine

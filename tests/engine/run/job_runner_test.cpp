@@ -12,9 +12,9 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_file.hpp"
 #include "engine/job/sweep.hpp"
-#include "engine/store/hdf5_file.hpp"
 #include "engine/store/run_store.hpp"
 #include "engine/tasks/discrete_protocol.hpp"
 #include "engine/tasks/task_list.hpp"

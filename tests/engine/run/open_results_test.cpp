@@ -16,9 +16,9 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/usage_error.hpp"
 #include "engine/run/job_runner.hpp"
-#include "engine/store/hdf5_file.hpp"
 #include "engine/store/run_store.hpp"
 #include "support/determinism_job.hpp"
 #include "support/files.hpp"

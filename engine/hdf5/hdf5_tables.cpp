@@ -1,4 +1,4 @@
-#include "engine/store/hdf5_file.hpp"
+#include "engine/hdf5/hdf5_file.hpp"
 
 #include <hdf5.h>
 
@@ -6,7 +6,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "engine/store/hdf5_internals.hpp"
+#include "engine/hdf5/hdf5_internals.hpp"
 
 namespace ggk::engine {
 

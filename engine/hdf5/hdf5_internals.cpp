@@ -1,4 +1,4 @@
-#include "engine/store/hdf5_internals.hpp"
+#include "engine/hdf5/hdf5_internals.hpp"
 
 #include <hdf5.h>
 

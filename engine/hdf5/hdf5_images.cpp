@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/store/hdf5_file.hpp"
-#include "engine/store/hdf5_internals.hpp"
+#include "engine/hdf5/hdf5_file.hpp"
+#include "engine/hdf5/hdf5_internals.hpp"
 
 namespace ggk::engine {
 

@@ -1,4 +1,4 @@
-#include "engine/store/hdf5_file.hpp"
+#include "engine/hdf5/hdf5_file.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>

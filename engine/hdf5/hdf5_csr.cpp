@@ -1,10 +1,10 @@
-#include "engine/store/hdf5_file.hpp"
+#include "engine/hdf5/hdf5_file.hpp"
 
 #include <hdf5.h>
 
 #include <limits>
 
-#include "engine/store/hdf5_internals.hpp"
+#include "engine/hdf5/hdf5_internals.hpp"
 
 namespace ggk::engine {
 
