@@ -164,6 +164,15 @@ std::vector<std::vector<std::size_t>> combinations(const std::vector<std::size_t
   return all;
 }
 
+void remove_study_axes(toml::table& root, const std::vector<WrittenAxis>& written) {
+  if (toml::table* sweep = root.get_as<toml::table>("sweep")) {
+    for (const WrittenAxis& axis : written) {
+      for (const std::string& key : axis.keys) sweep->erase(key);
+    }
+    sweep->erase("zip");
+  }
+}
+
 struct Expansion {
   const std::vector<WrittenAxis>& written;
   std::vector<StudyAxis>& axes;
@@ -171,13 +180,18 @@ struct Expansion {
   std::span<const TaskTable> tasks;
   const JobLoadOptions& options;
   const std::string& source_text;
+  const std::string& toml_text;
 
-  // The job at one point: `base` with the listed axes at the listed values.
-  JobSpec parse_point(const toml::table& base, const std::vector<std::size_t>& axis_ids,
+  // The job at one point: the job with the listed axes at the listed values.
+  JobSpec parse_point(const std::vector<std::size_t>& axis_ids,
                       const std::vector<std::size_t>& value_ids,
                       std::vector<AxisAssignment>& assignments) const {
     const std::string file = source_file.string();
-    toml::table root = base;
+    // The job's TOML read afresh (a copied toml++ table forgets where its values
+    // were, and errors would lose their line), less the study axes, plus the
+    // point's values.
+    toml::table root = parse_job_toml(toml_text, file, options);
+    remove_study_axes(root, written);
     std::string description;
     for (std::size_t a = 0; a < axis_ids.size(); ++a) {
       const WrittenAxis& axis = written[axis_ids[a]];
@@ -203,6 +217,7 @@ struct Expansion {
           }
         }
       }
+      if (description.empty()) throw;
       throw JobError(e.file(), where, e.key_path(),
                      e.detail() + " (at the study point " + description + ")");
     }
@@ -286,17 +301,8 @@ Study parse_study(std::string toml_text, const std::filesystem::path& source_fil
                   std::span<const TaskTable> tasks, const JobLoadOptions& options) {
   const std::string file = source_file.string();
   const toml::table root = parse_job_toml(toml_text, file, options);
-  const std::string source_text = job_source_text(std::move(toml_text), root, file, options);
+  const std::string source_text = job_source_text(toml_text, root, file, options);
   const std::vector<WrittenAxis> written = written_axes(root, file);
-
-  // The job without its study axes: every point starts from it.
-  toml::table base = root;
-  if (toml::table* sweep = base.get_as<toml::table>("sweep")) {
-    for (const WrittenAxis& axis : written) {
-      for (const std::string& key : axis.keys) sweep->erase(key);
-    }
-    sweep->erase("zip");
-  }
 
   Study study;
   std::vector<std::size_t> run_axes, fit_axes, run_sizes, fit_sizes;
@@ -314,13 +320,14 @@ Study parse_study(std::string toml_text, const std::filesystem::path& source_fil
     study.axes.push_back(std::move(axis));
   }
 
-  const Expansion expansion{written, study.axes, source_file, tasks, options, source_text};
+  const Expansion expansion{written, study.axes,  source_file, tasks,
+                            options, source_text, toml_text};
   const auto run_points = combinations(run_sizes);
   const auto fit_points = combinations(fit_sizes);
   for (const auto& run_point : run_points) {
     RunConfiguration configuration;
     configuration.index = static_cast<std::int32_t>(study.configurations.size());
-    configuration.job = expansion.parse_point(base, run_axes, run_point, configuration.assignments);
+    configuration.job = expansion.parse_point(run_axes, run_point, configuration.assignments);
     if (!run_axes.empty()) {
       char name[32];
       std::snprintf(name, sizeof name, "config_%03d", configuration.index);
@@ -336,7 +343,7 @@ Study parse_study(std::string toml_text, const std::filesystem::path& source_fil
         std::vector<std::size_t> value_ids = run_point;
         value_ids.insert(value_ids.end(), fit_point.begin(), fit_point.end());
         std::vector<AxisAssignment> assignments;
-        const JobSpec job = expansion.parse_point(base, axis_ids, value_ids, assignments);
+        const JobSpec job = expansion.parse_point(axis_ids, value_ids, assignments);
         assignments.erase(
             assignments.begin(),
             assignments.begin() + static_cast<std::ptrdiff_t>(configuration.assignments.size()));
