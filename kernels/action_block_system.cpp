@@ -55,6 +55,13 @@ ActionBlockSystem::ActionBlockSystem(const SparseRowMatrix& features, bool copy_
     by_action[static_cast<std::size_t>(samples.actions[i])].push_back(static_cast<std::int32_t>(i));
   }
   for (std::size_t i = 0; i < samples.size(); ++i) live_samples_ += samples.terminals[i] ? 0 : 1;
+  for (Eigen::Index row = 0; row < features.rows() && !table_has_zeros_; ++row) {
+    Eigen::Index nonzeros = 0;
+    for (SparseRowMatrix::InnerIterator it(features, row); it; ++it) {
+      nonzeros += it.value() != 0.0 ? 1 : 0;
+    }
+    table_has_zeros_ = nonzeros != p_;
+  }
   start_blocks_.reserve(by_action.size());
   for (std::int32_t a = 0; a < num_actions; ++a) {
     const std::vector<std::int32_t>& rows = by_action[static_cast<std::size_t>(a)];
@@ -143,21 +150,54 @@ std::vector<std::vector<std::int32_t>> ActionBlockSystem::full_groups(
   return groups;
 }
 
-void ActionBlockSystem::reset(PolicyBlocks& blocks) const {
+void ActionBlockSystem::reset(PolicyBlocks& blocks, bool supports) const {
   const auto m = static_cast<std::size_t>(num_actions_);
+  const bool brm = solver_ == LspiSolver::brm;
   blocks.cross.assign(m * m, Eigen::MatrixXd::Zero(p_, p_));
-  if (solver_ == LspiSolver::brm) blocks.next.assign(m, Eigen::MatrixXd::Zero(p_, p_));
+  if (brm) blocks.next.assign(m, Eigen::MatrixXd::Zero(p_, p_));
   blocks.rhs = start_rhs_;
   blocks.group_sizes.assign(m * m, 0);
+  const bool block_supports = supports && table_has_zeros_;
+  blocks.cross_support.assign(block_supports ? m * m : 0, Eigen::MatrixXd::Zero(p_, p_));
+  blocks.next_support.assign(block_supports && brm ? m : 0, Eigen::MatrixXd::Zero(p_, p_));
+  blocks.rhs_support = supports && brm ? Eigen::VectorXd::Zero(k_) : Eigen::VectorXd();
 }
+
+namespace {
+
+// The 0/1 indicator of values != 0 (a view of `buffer`, grown as needed).
+Eigen::Map<Eigen::MatrixXd> nonzero_indicator(const Eigen::Ref<const Eigen::MatrixXd>& values,
+                                              std::vector<double>& buffer) {
+  const auto size = static_cast<std::size_t>(values.size());
+  if (buffer.size() < size) buffer.resize(size);
+  Eigen::Map<Eigen::MatrixXd> out(buffer.data(), values.rows(), values.cols());
+  out = (values.array() != 0.0).cast<double>();
+  return out;
+}
+
+// Sets entries of `values` whose count in `support` is zero to exactly zero (the
+// lower triangle only when `lower`).
+void reset_unsupported(const Eigen::MatrixXd& support, bool lower, Eigen::MatrixXd& values) {
+  for (Eigen::Index col = 0; col < values.cols(); ++col) {
+    for (Eigen::Index row = lower ? col : 0; row < values.rows(); ++row) {
+      if (support(row, col) == 0.0) values(row, col) = 0.0;
+    }
+  }
+}
+
+}  // namespace
 
 void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>& groups,
                                    double sign, PolicyBlocks& blocks, Scratch& scratch) const {
   const auto m = static_cast<std::size_t>(num_actions_);
   const bool brm = solver_ == LspiSolver::brm;
+  const bool block_supports = !blocks.cross_support.empty();
+  const bool rhs_supports = blocks.rhs_support.size() != 0;
+  std::vector<std::uint8_t> touched(m * m, 0);
   for (std::size_t g = 0; g < groups.size(); ++g) {
     const std::vector<std::int32_t>& rows = groups[g];
     if (rows.empty()) continue;
+    touched[g] = 1;
     const auto x = static_cast<std::int32_t>(g / m), y = static_cast<std::int32_t>(g % m);
     const auto u = gather(rows, false, x, scratch.u);
     const auto v = gather(rows, true, y, scratch.v);
@@ -170,13 +210,48 @@ void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>&
     } else {
       blocks.cross[g].noalias() -= u.transpose() * v;
     }
+    // The counts: the same products on the indicators of the non-zeros (exact
+    // integers in doubles).
+    if (block_supports) {
+      const auto u_support = nonzero_indicator(u, scratch.u_support);
+      const auto v_support = nonzero_indicator(v, scratch.v_support);
+      blocks.cross_support[g].noalias() += sign * (u_support.transpose() * v_support);
+      if (brm) {
+        blocks.next_support[static_cast<std::size_t>(y)].selfadjointView<Eigen::Lower>().rankUpdate(
+            v_support.transpose(), sign);
+      }
+    }
     if (!brm) continue;
     blocks.next[static_cast<std::size_t>(y)].selfadjointView<Eigen::Lower>().rankUpdate(
         v.transpose(), sign * gamma_ * gamma_);
-    blocks.rhs.segment(y * p_, p_).noalias() -=
-        (sign * gamma_) * (v.transpose() * weighted_rewards(rows, scratch.rewards));
+    const auto rewards = weighted_rewards(rows, scratch.rewards);
+    blocks.rhs.segment(y * p_, p_).noalias() -= (sign * gamma_) * (v.transpose() * rewards);
+    if (rhs_supports) {
+      const auto v_support =
+          block_supports ? Eigen::Map<Eigen::MatrixXd>(scratch.v_support.data(), v.rows(), p_)
+                         : nonzero_indicator(v, scratch.v_support);
+      blocks.rhs_support.segment(y * p_, p_).noalias() +=
+          sign * (v_support.transpose() * nonzero_indicator(rewards, scratch.reward_support));
+    }
+  }
+  if (sign < 0 && block_supports) {
+    // A removal leaves rounding residue where no remaining sample reaches: reset.
+    std::vector<std::uint8_t> next_touched(m, 0);
+    for (std::size_t g = 0; g < m * m; ++g) {
+      if (!touched[g]) continue;
+      reset_unsupported(blocks.cross_support[g], false, blocks.cross[g]);
+      next_touched[g % m] = 1;
+    }
+    for (std::size_t y = 0; brm && y < m; ++y) {
+      if (next_touched[y]) reset_unsupported(blocks.next_support[y], true, blocks.next[y]);
+    }
   }
   if (!brm) return;
+  if (sign < 0 && rhs_supports) {
+    for (Eigen::Index e = 0; e < k_; ++e) {
+      if (blocks.rhs_support(e) == 0.0) blocks.rhs(e) = start_rhs_(e);
+    }
+  }
   // E_y is an empty sum once no group (x, y) holds a sample.
   for (std::size_t y = 0; y < m; ++y) {
     std::int64_t size = 0;
@@ -218,7 +293,7 @@ void ActionBlockSystem::assemble(const std::vector<std::int32_t>& policy, Eigen:
                                  Eigen::VectorXd& b) const {
   PolicyBlocks blocks;
   Scratch scratch;
-  reset(blocks);
+  reset(blocks, false);
   accumulate(full_groups(policy), 1.0, blocks, scratch);
   compose(blocks, a, b);
 }
@@ -237,7 +312,7 @@ std::int64_t ActionBlockSystem::update(const std::vector<std::int32_t>& policy, 
   }
   last_rebuilt_ = bootstrap_.empty() || 2 * changed >= live_samples_;
   if (last_rebuilt_) {
-    reset(cached_);
+    reset(cached_, true);
     accumulate(full_groups(policy), 1.0, cached_, scratch_);
     bootstrap_.assign(n, -1);
     for (std::size_t i = 0; i < n; ++i) {

@@ -23,9 +23,17 @@
 // instead of ~3 n p^2. It rebuilds everything instead when 2 r >= n_live (the
 // non-terminal samples) or on the first call; a rebuild gives A and b bit for bit
 // as `assemble`. An updated A equals the rebuilt one up to rounding (the sums run
-// in another order: differences of a few ulps of the summed magnitudes, and an
-// exact zero of the definition may come out as such a rounding residue unless
-// its whole group emptied, which resets the group's block to exact zeros).
+// in another order: differences of a few ulps of the summed magnitudes).
+// Exact zeros stay exact: an entry of C, E or b that no sample of its group
+// reaches with a non-zero term (truncated kernels, unreachable centres, zero
+// rewards) is exactly zero in `assemble`, and a subtraction would leave rounding
+// residue there instead (~1e-15 of the removed terms), which breaks the greedy
+// step's exact ties (lspi.hpp). So `update` also keeps, per entry, how many
+// samples of its group contribute a non-zero term (exact integers, from the same
+// products on 0/1 indicators), and resets every entry whose count falls to zero.
+// The counts of C and E are kept only when some feature row has a zero (a table
+// without any makes every count its group's size: an emptied group, reset
+// whole); they double the flops of an update and of update's rebuilds.
 //
 // Thread-safety: const members may be called from several threads; `update`
 // changes the object (one thread at a time).
@@ -78,23 +86,33 @@ class ActionBlockSystem {
  private:
   // The policy-dependent parts: C_xy (m * m blocks, row x * m + y), E_y (m blocks,
   // lower triangle, BRM), b (start_rhs_ minus gamma sum_i e_{b_i} v_i sqrt(w_i) r_i
-  // for BRM), and the size of every (x, y) group.
+  // for BRM), and the size of every (x, y) group. With `supports`, the number of
+  // the group's samples with a non-zero term in each entry: cross_support and
+  // next_support beside cross and next (when the table has zeros), rhs_support
+  // beside the policy-dependent sum in rhs (BRM); empty when not kept.
   struct PolicyBlocks {
     std::vector<Eigen::MatrixXd> cross;
     std::vector<Eigen::MatrixXd> next;
     Eigen::VectorXd rhs;
     std::vector<std::int64_t> group_sizes;
+    std::vector<Eigen::MatrixXd> cross_support;
+    std::vector<Eigen::MatrixXd> next_support;
+    Eigen::VectorXd rhs_support;
   };
 
   // Buffers of the gathered rows, reused from group to group and call to call (a
   // fresh matrix per group costs page faults and a zero fill of new pages).
   struct Scratch {
     std::vector<double> u, v, rewards;
+    std::vector<double> u_support, v_support, reward_support;  // 0/1 indicators
   };
 
-  void reset(PolicyBlocks& blocks) const;
+  // supports: keep the counts of non-zero terms (update's blocks; assemble's need
+  // none).
+  void reset(PolicyBlocks& blocks, bool supports) const;
   // Adds (sign +1) or removes (sign -1) the samples `groups[x * m + y]` (each in
-  // sample order) with bootstrap action y to / from the blocks.
+  // sample order) with bootstrap action y to / from the blocks; a removal resets
+  // the entries no remaining sample reaches (where the blocks keep counts).
   void accumulate(const std::vector<std::vector<std::int32_t>>& groups, double sign,
                   PolicyBlocks& blocks, Scratch& scratch) const;
   void compose(const PolicyBlocks& blocks, Eigen::MatrixXd& a, Eigen::VectorXd& b) const;
@@ -126,6 +144,7 @@ class ActionBlockSystem {
   std::vector<Eigen::MatrixXd> start_blocks_;  // D_a, both triangles
   Eigen::VectorXd start_rhs_;                  // sum_i e_{a_i} u_i sqrt(w_i) r_i
   std::int64_t live_samples_ = 0;              // non-terminal samples
+  bool table_has_zeros_ = false;               // some row of features_ has fewer than p non-zeros
   // State of `update`: the blocks and every sample's bootstrap action for the last
   // policy (-1 for terminal samples); empty before the first call.
   PolicyBlocks cached_;

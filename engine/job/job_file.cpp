@@ -30,6 +30,11 @@ constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
 // A job's name names its default output file; 100 characters keep
 // "<name>.h5" and the names derived from it far below NAME_MAX (255 bytes).
 constexpr std::size_t kMaxNameCharacters = 100;
+// [lspi] max_iterations: policy iteration settles in a few to tens of evaluations
+// (the paper's jobs cap it at 20; a fit still changing then is cycling between
+// near-equal policies, not converging). 1000 leaves room for studies of the
+// stopping rules; beyond it a job is one that never ends (issue 23).
+constexpr IntegerRange kMaxIterationsRange{1, 1000};
 // The longest file name (one path component) Linux file systems take, NAME_MAX.
 constexpr std::size_t kMaxFileNameBytes = 255;
 
@@ -102,7 +107,7 @@ LspiSettings parse_lspi(const TomlTableReader& job) {
   LspiSettings lspi;
   lspi.gamma = table.number("gamma", NumberRange::half_open(0.0, 1.0), lspi.gamma);
   lspi.max_iterations = static_cast<std::int32_t>(
-      table.integer("max_iterations", {1, kInt32Max}, lspi.max_iterations));
+      table.integer("max_iterations", kMaxIterationsRange, lspi.max_iterations));
   lspi.fold_duplicates = table.boolean("fold_duplicates", lspi.fold_duplicates);
   lspi.min_rcond = table.number("min_rcond", NumberRange::open(0.0, 1.0), lspi.min_rcond);
   lspi.stopping = table.choice("stopping", kStoppingNames, "policy") == "weights"

@@ -23,6 +23,13 @@ using TaskTableParser = std::any (*)(const TomlTableReader& job,
                                      const std::filesystem::path& job_dir,
                                      std::vector<JobInput>& inputs);
 
+// test_max_steps of every task: a greedy test walks at most this many steps from
+// a start. The paper tests 100 steps (arm) and 150 (Khepera); a policy that
+// reaches a goal of a deterministic task visits no state twice, and 10^6 steps
+// cover the longest such path of a 1000 x 1000 maze. Beyond it a job is one
+// that never ends (issue 23), not a larger study.
+inline constexpr IntegerRange kTestMaxStepsRange{1, 1'000'000};
+
 struct TaskTable {
   std::string_view name;  // [A-Za-z0-9_]+, distinct from the job file's other top-level keys
   TaskTableParser parse = nullptr;

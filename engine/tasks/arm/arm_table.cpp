@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/job/kernel_width.hpp"
+#include "engine/job/task_table.hpp"
 #include "sims/arm/arm.hpp"
 
 namespace ggk::engine {
@@ -241,7 +242,7 @@ arm::ArmConfig parse_arm_table(const TomlTableReader& job) {
   config.steps_per_series = static_cast<std::int32_t>(
       table->integer("steps_per_series", {1, kInt32Max}, config.steps_per_series));
   config.test_max_steps = static_cast<std::int32_t>(
-      table->integer("test_max_steps", {1, kInt32Max}, config.test_max_steps));
+      table->integer("test_max_steps", kTestMaxStepsRange, config.test_max_steps));
   // Sample ids are 32-bit: a run's samples must fit.
   const std::int64_t samples =
       static_cast<std::int64_t>(config.series) * static_cast<std::int64_t>(config.steps_per_series);

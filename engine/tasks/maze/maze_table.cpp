@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/job/kernel_width.hpp"
+#include "engine/job/task_table.hpp"
 #include "sims/maze/maze.hpp"
 
 namespace ggk::engine {
@@ -96,7 +97,7 @@ sims::maze::MazeConfig parse_maze_table(const TomlTableReader& job,
   config.steps_per_series = static_cast<std::int32_t>(
       maze.integer("steps_per_series", {1, kInt32Max}, config.steps_per_series));
   config.test_max_steps = static_cast<std::int32_t>(
-      maze.integer("test_max_steps", {1, kInt32Max}, config.test_max_steps));
+      maze.integer("test_max_steps", kTestMaxStepsRange, config.test_max_steps));
   // Sample ids are 32-bit: a run's samples must fit.
   const std::int64_t samples =
       static_cast<std::int64_t>(config.series) * static_cast<std::int64_t>(config.steps_per_series);

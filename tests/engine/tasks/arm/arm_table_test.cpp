@@ -288,6 +288,10 @@ std::vector<MalformedArm> malformed_arms() {
       {"test_max_steps wrong type",
        arm_job_with(10, "start_A = [110, 0]\ntest_max_steps = 1.5"),
        {"bad.toml:11:1: [arm] test_max_steps:", "got 1.5"}},
+      {"test_max_steps that never end",
+       arm_job_with(10, "start_A = [110, 0]\ntest_max_steps = 2147483647"),
+       {"bad.toml:11:1: [arm] test_max_steps: expected an integer in [1, 1000000], got "
+        "2147483647"}},
   };
 }
 

@@ -50,5 +50,32 @@ TEST(MazeTable, AGoalSomeFreeCellReachesIsAccepted) {
   EXPECT_EQ(outcome("#####\n#.GG#\n#####\n"), "ok");
 }
 
+// Greedy tests bounded by what a person would run (jobs/README.md): 2^31 - 1
+// steps from every start is a job that never ends.
+TEST(MazeTable, TestMaxStepsIsBounded) {
+  const auto with_steps = [](const std::string& steps) {
+    const std::string text =
+        "name = \"m\"\ntask = \"maze\"\nruns = 1\nseed = 0\n[sweep]\nkernels = [4]\n"
+        "sigma = [2.0]\n[maze]\ntest_max_steps = " +
+        steps + "\nmap = \"G..\"\n";
+    JobLoadOptions options;
+    options.check_output = false;
+    try {
+      return std::to_string(task_config_as<sims::maze::MazeConfig>(
+                                parse_job(text, "jobs/steps.toml", task_tables(), options))
+                                .test_max_steps);
+    } catch (const JobError& error) {
+      return std::string(error.what());
+    }
+  };
+  EXPECT_EQ(with_steps("1000000"), "1000000");
+  const std::string message = with_steps("2147483647");
+  EXPECT_NE(message.find("jobs/steps.toml:9:1: [maze] test_max_steps: expected an integer in [1, "
+                         "1000000], got 2147483647"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(with_steps("1000001").find("got 1000001"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace ggk::engine
