@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <set>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
@@ -102,7 +103,25 @@ void check_same_job(const Hdf5File& file, const JobSpec& job, const fs::path& ou
                      "; write to another -o, or start it again with --overwrite (deleting its "
                      "complete runs)");
   }
-  if (const auto difference = job_difference(header.job, job.source_text)) {
+  // Compared by meaning where the file records its resolved configuration (30
+  // and 30.0, a key at its default and the key left out read alike); as TOML
+  // where an older ggk wrote it. Where the results go is no part of them.
+  std::optional<std::string> difference;
+  if (!header.job_resolved.empty()) {
+    const std::optional<ResolvedConfig> recorded = ResolvedConfig::from_text(header.job_resolved);
+    if (!recorded) {
+      throw UsageError("cannot resume " + output.string() +
+                       ": its job_resolved attribute is damaged (not a resolved configuration); "
+                       "choose another output with -o, or --overwrite to replace it (deleting "
+                       "its complete runs)");
+    }
+    static const std::set<std::string> kNotResults = {"output.file", "output.compression"};
+    difference =
+        recorded->difference(job.resolved, "the results file", "the job file", kNotResults);
+  } else {
+    difference = job_difference(header.job, job.source_text);
+  }
+  if (difference) {
     throw UsageError("cannot resume " + output.string() + ": it holds the results of a different " +
                      "job (" + *difference + "; job file " + job.source_file.string() +
                      "); choose another output with -o, or --overwrite to replace it (deleting its "
@@ -190,6 +209,7 @@ ResultsHeader new_header(const JobSpec& job, const RunOptions& options) {
   for (const std::string& text : job.overrides) {
     header.job_overrides += (header.job_overrides.empty() ? "" : "\n") + text;
   }
+  header.job_resolved = job.resolved.text();
   header.runs_selected = selection(job, options.runs);
   return header;
 }

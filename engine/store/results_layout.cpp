@@ -58,6 +58,9 @@ void write_results_header(Hdf5File& file, const ResultsHeader& header) {
   if (!header.job_overrides.empty()) {
     file.write_string_attribute("/", "job_overrides", header.job_overrides);
   }
+  if (!header.job_resolved.empty()) {
+    file.write_string_attribute("/", "job_resolved", header.job_resolved);
+  }
   file.write_int64_attribute("/", "layout", header.layout);
   write_runs_selected(file, header.runs_selected);
 }
@@ -74,6 +77,7 @@ ResultsHeader read_results_header(const Hdf5File& file) {
   header.created = string_at(file, "created", true);
   header.blas = string_at(file, "blas", false);
   header.job_overrides = string_at(file, "job_overrides", false);
+  header.job_resolved = string_at(file, "job_resolved", false);
   header.layout = int64_at(file, "layout", false, 1);
   header.runs_selected = root_attribute<std::optional<RunsSelected>>(
       file, "runs_selected", false, std::nullopt,

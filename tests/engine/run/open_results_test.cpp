@@ -156,6 +156,36 @@ TEST_F(JobRunnerTest, ResumeRefusesTheResultsOfAnotherJob) {
   EXPECT_EQ(summary.runs_skipped, 3);
 }
 
+TEST_F(JobRunnerTest, ResumeComparesTheJobsMeaning) {
+  // sigma = [3] and [3.0], a key at its default written out, comments and key
+  // order: the same job, so the file resumes (issue 20: resumes that never mislead).
+  const std::string text = determinism_job(dir_ / "out.h5");
+  const JobSpec job = load_job("job.toml", text);
+  run_job(job, options_for(job.output.file));
+
+  std::string respelled = "# respelled\n" + text;
+  respelled.replace(respelled.find("sigma = [3.0]"), 13, "sigma = [3]");
+  respelled += "[lspi]\ngamma = 0.9\nmax_iterations = 20\n";
+  RunOptions resume = options_for(job.output.file);
+  resume.resume = true;
+  const RunSummary summary = run_job(load_job("respelled.toml", respelled), resume);
+  EXPECT_EQ(summary.runs_skipped, 3);
+  EXPECT_EQ(summary.runs_computed, 0);
+
+  // A value that changes the results is named.
+  std::string changed = text;
+  changed.replace(changed.find("slip = 0.2"), 10, "slip = 0.3");
+  try {
+    run_job(load_job("changed.toml", changed), resume);
+    FAIL() << "expected a UsageError";
+  } catch (const UsageError& error) {
+    EXPECT_NE(
+        std::string(error.what()).find("maze.slip: 0.2 in the results file, 0.3 in the job file"),
+        std::string::npos)
+        << error.what();
+  }
+}
+
 TEST_F(JobRunnerTest, ResumeRefusesAChangedMapFile) {
   // The determinism job with its map in a file next to the job file.
   std::string text = determinism_job(dir_ / "out.h5");
