@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "sims/arm/arm_test_helpers.hpp"
+
 #include "sims/arm/arm.hpp"
 #include "sims/arm/arm_geometry.hpp"
 #include "sims/arm/collision.hpp"
@@ -16,16 +18,7 @@
 namespace ggk::sims::arm {
 namespace {
 
-constexpr double kTol = 1e-12;
-
-double deg(double degrees) {
-  return degrees * std::numbers::pi / 180.0;
-}
-
-void expect_point(const Point2& actual, double x, double y) {
-  EXPECT_NEAR(actual.x, x, kTol);
-  EXPECT_NEAR(actual.y, y, kTol);
-}
+using namespace test_helpers;
 
 TEST(ArmKinematics, HandComputedPoses) {
   ArmGeometry geometry;

@@ -13,6 +13,8 @@
 #include <gtest/gtest.h>
 #include <tbb/parallel_for.h>
 
+#include "sims/khepera/khepera_test_helpers.hpp"
+
 namespace ggk::sims::khepera {
 namespace {
 
@@ -20,26 +22,7 @@ using kernels::RandomStream;
 
 constexpr double kPi = std::numbers::pi;
 
-// F of DESIGN.md sec. 3 written out with the default constants.
-double hand_f(double x) {
-  if (x > 10.0) return 0.0;
-  return 1200.0 * (7.0 - 0.81) / (x * x + 1.8 * x + 7.0);
-}
-
-// A config whose arena has only the given obstacles (no box walls), noise off.
-KheperaConfig open_config(std::vector<Shape> obstacles, Pose start = {50.0, 50.0, 0.0}) {
-  KheperaConfig config;
-  config.arena.walled = false;
-  config.arena.obstacles = std::move(obstacles);
-  config.arena.start = start;
-  config.sensors.noise_fraction = 0.0;
-  config.sensors.noise_sd = 0.0;
-  config.motion.wheel_noise = 0.0;
-  return config;
-}
-
-// A vertical wall x = 60 from y = 0 to y = 100.
-const Shape kWallAt60 = Segment{{60.0, 0.0}, {60.0, 100.0}};
+using namespace test_helpers;
 
 // Distance from `origin` along the ray of angle `angle` to the line x = wall_x,
 // or +infinity when the ray points away or the hit lies beyond 10 cm.
