@@ -4,19 +4,16 @@
 
 #include <cstdlib>
 
+#include "engine/job/shell_words.hpp"
+
 namespace ggk::test_support {
 
 namespace fs = std::filesystem;
+using engine::shell_quoted;
 
 fs::path ggk_binary() {
   const char* binary_dir = std::getenv("GGK_BINARY_DIR");
   return binary_dir == nullptr ? fs::path() : fs::path(binary_dir) / "ggk";
-}
-
-std::string shell_quoted(const std::string& text) {
-  std::string quoted = "'";
-  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
 }
 
 Outcome run_binary(const fs::path& binary, const std::vector<std::string>& args,

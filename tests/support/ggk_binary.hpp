@@ -37,9 +37,6 @@ std::filesystem::path ggk_binary();
 Outcome run_binary(const std::filesystem::path& binary, const std::vector<std::string>& args,
                    const std::filesystem::path& scratch, const ProcessLimits& limits = {});
 
-// `text` quoted for the POSIX shell.
-std::string shell_quoted(const std::string& text);
-
 // Passes when `text` contains `part`, else says what it holds.
 ::testing::AssertionResult contains(const std::string& text, const std::string& part);
 
