@@ -436,24 +436,27 @@ JobSpec parse_job_table(const toml::table& root, std::string source_text,
 
 JobSpec parse_job(std::string toml_text, const std::filesystem::path& source_file,
                   std::span<const TaskTable> tasks, const JobLoadOptions& options) {
-  const std::string file = source_file.string();
-  const toml::table root = parse_job_toml(toml_text, file, options);
-  if (const auto axes = study_axis_keys(root); !axes.empty()) {
-    throw JobError(file, {}, "sweep." + axes.front(),
-                   "this job is a study (its [sweep] varies " + single_quoted(axes.front()) +
+  Study study = parse_study(std::move(toml_text), source_file, tasks, options);
+  if (study.has_axes()) {
+    const std::string& axis = study.axes.front().keys.front();
+    throw JobError(source_file.string(), {}, "sweep." + axis,
+                   "this job is a study (its [sweep] varies " + single_quoted(axis) +
                        "), which this command does not take");
   }
-  std::string source_text = job_source_text(std::move(toml_text), root, file, options);
-  return parse_job_table(root, std::move(source_text), source_file, tasks, options);
+  return std::move(study.configurations.front().job);
 }
 
-JobSpec load_job_file(const std::filesystem::path& path, std::span<const TaskTable> tasks,
-                      const JobLoadOptions& options) {
+std::string read_job_file(const std::filesystem::path& path) {
   RegularFileText file = read_regular_file(path);
   if (!file.problem.empty()) {
     throw JobError(path.string(), {}, "", "cannot read the job file: it " + file.problem);
   }
-  return parse_job(std::move(file.text), path, tasks, options);
+  return std::move(file.text);
+}
+
+JobSpec load_job_file(const std::filesystem::path& path, std::span<const TaskTable> tasks,
+                      const JobLoadOptions& options) {
+  return parse_job(read_job_file(path), path, tasks, options);
 }
 
 }  // namespace ggk::engine

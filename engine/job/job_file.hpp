@@ -59,6 +59,10 @@ JobSpec parse_job_table(const toml::table& root, std::string source_text,
                         const std::filesystem::path& source_file, std::span<const TaskTable> tasks,
                         const JobLoadOptions& options);
 
+// The text of the job file at `path` (a regular file of at most 16 MiB,
+// job_input.hpp). Throws JobError naming the file.
+std::string read_job_file(const std::filesystem::path& path);
+
 // Reads and validates the job file at `path`. Throws JobError.
 JobSpec load_job_file(const std::filesystem::path& path, std::span<const TaskTable> tasks,
                       const JobLoadOptions& options = {});

@@ -6,7 +6,6 @@
 #include <utility>
 
 #include "engine/job/job_file.hpp"
-#include "engine/job/job_input.hpp"
 #include "engine/job/sweep.hpp"
 
 namespace ggk::engine {
@@ -217,7 +216,7 @@ struct Expansion {
           }
         }
       }
-      if (description.empty()) throw;
+      if (description.empty()) throw;  // the configuration of fit-level axes only
       throw JobError(e.file(), where, e.key_path(),
                      e.detail() + " (at the study point " + description + ")");
     }
@@ -289,14 +288,6 @@ StageLevel stage_of(const std::string& key) {
   return StageLevel::kRun;
 }
 
-std::vector<std::string> study_axis_keys(const toml::table& root) {
-  std::vector<std::string> keys;
-  for (const WrittenAxis& axis : written_axes(root, "")) {
-    keys.insert(keys.end(), axis.keys.begin(), axis.keys.end());
-  }
-  return keys;
-}
-
 Study parse_study(std::string toml_text, const std::filesystem::path& source_file,
                   std::span<const TaskTable> tasks, const JobLoadOptions& options) {
   const std::string file = source_file.string();
@@ -305,6 +296,13 @@ Study parse_study(std::string toml_text, const std::filesystem::path& source_fil
   const std::vector<WrittenAxis> written = written_axes(root, file);
 
   Study study;
+  if (written.empty()) {  // a plain job: its one configuration, from the TOML read above
+    RunConfiguration configuration;
+    configuration.job = parse_job_table(root, source_text, source_file, tasks, options);
+    configuration.variants.push_back({{}, configuration.job.lspi});
+    study.configurations.push_back(std::move(configuration));
+    return study;
+  }
   std::vector<std::size_t> run_axes, fit_axes, run_sizes, fit_sizes;
   for (std::size_t a = 0; a < written.size(); ++a) {
     StudyAxis axis;
@@ -359,11 +357,7 @@ Study parse_study(std::string toml_text, const std::filesystem::path& source_fil
 
 Study load_study(const std::filesystem::path& path, std::span<const TaskTable> tasks,
                  const JobLoadOptions& options) {
-  RegularFileText file = read_regular_file(path);
-  if (!file.problem.empty()) {
-    throw JobError(path.string(), {}, "", "cannot read the job file: it " + file.problem);
-  }
-  return parse_study(std::move(file.text), path, tasks, options);
+  return parse_study(read_job_file(path), path, tasks, options);
 }
 
 std::vector<SweepPoint> expand_points(const RunConfiguration& configuration) {

@@ -100,10 +100,6 @@ std::string forbidden_axis_reason(const std::string& key);
 // Which stage a key changes.
 StageLevel stage_of(const std::string& key);
 
-// The study axes' keys in a job's TOML ([sweep]'s dotted keys and the keys of
-// its [[sweep.zip]] blocks), in file order; empty for a plain job.
-std::vector<std::string> study_axis_keys(const toml::table& root);
-
 // Reads a job file as a study (a plain job is a study of one configuration):
 // every point parsed and validated. Throws JobError; an error at a point names
 // the point ("... (at the study point khepera.motion.turn_deg = 400)").

@@ -23,8 +23,7 @@ std::vector<SweepPoint> expand_sweep(const JobSpec& job) {
   return points;
 }
 
-kernels::LspiOptions lspi_options(const JobSpec& job, const SweepPoint& point) {
-  (void)job;
+kernels::LspiOptions lspi_options(const SweepPoint& point) {
   const LspiSettings& lspi = point.lspi;
   kernels::LspiOptions options;
   options.gamma = lspi.gamma;

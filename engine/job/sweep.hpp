@@ -36,6 +36,6 @@ std::vector<SweepPoint> expand_sweep(const JobSpec& job);
 
 // The LSPI settings of one fit: the point's [lspi] settings (the job's, or its fit
 // variant's) with the point's solver and ridge (lambda).
-kernels::LspiOptions lspi_options(const JobSpec& job, const SweepPoint& point);
+kernels::LspiOptions lspi_options(const SweepPoint& point);
 
 }  // namespace ggk::engine

@@ -1,7 +1,6 @@
 #include "engine/job/toml_table_reader.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <tuple>
 #include <utility>
@@ -14,12 +13,6 @@ namespace {
 constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
 constexpr std::int64_t kInt64Max = std::numeric_limits<std::int64_t>::max();
 constexpr std::int64_t kInt64Min = std::numeric_limits<std::int64_t>::min();
-
-// Shortest text that reads back as the same double; "2.0" rather than "2", so
-// that a float is told apart from an integer in messages.
-std::string format_number(double value) {
-  return canonical_number(value);
-}
 
 template <class T, class Format>
 std::string canonical_list(const std::vector<T>& values, Format format) {
@@ -56,11 +49,11 @@ std::string number_expectation(const NumberRange& range, bool plural) {
   const bool has_min = std::isfinite(range.min);
   const bool has_max = std::isfinite(range.max);
   if (has_min && has_max) {
-    return text + " in " + (range.min_inclusive ? "[" : "(") + format_number(range.min) + ", " +
-           format_number(range.max) + (range.max_inclusive ? "]" : ")");
+    return text + " in " + (range.min_inclusive ? "[" : "(") + canonical_number(range.min) + ", " +
+           canonical_number(range.max) + (range.max_inclusive ? "]" : ")");
   }
-  if (has_min) return text + (range.min_inclusive ? " >= " : " > ") + format_number(range.min);
-  if (has_max) return text + (range.max_inclusive ? " <= " : " < ") + format_number(range.max);
+  if (has_min) return text + (range.min_inclusive ? " >= " : " > ") + canonical_number(range.min);
+  if (has_max) return text + (range.max_inclusive ? " <= " : " < ") + canonical_number(range.max);
   return text;
 }
 
@@ -107,7 +100,7 @@ std::string describe_value(const toml::node& node) {
     case toml::node_type::integer:
       return std::to_string(node.as_integer()->get());
     case toml::node_type::floating_point:
-      return format_number(node.as_floating_point()->get());
+      return canonical_number(node.as_floating_point()->get());
     case toml::node_type::boolean:
       return node.as_boolean()->get() ? "true" : "false";
     case toml::node_type::string: {

@@ -368,7 +368,7 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
           ? kernels::shift_basis(state_kernels, env.num_actions, ctx.model)
           : kernels::copy_basis(state_kernels, env.num_actions);
 
-  fit.lspi = kernels::fit_lspi(features, env.num_actions, ctx.batch, lspi_options(*ctx.job, point));
+  fit.lspi = kernels::fit_lspi(features, env.num_actions, ctx.batch, lspi_options(point));
   fit.status = kernels::to_string(fit.lspi.status);
   fit.message = fit.lspi.message;
 

@@ -313,9 +313,8 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point,
   // kernels (the same result bit for bit).
   fit.lspi = ctx.job->basis.scheme == kernels::BasisScheme::shift
                  ? kernels::fit_lspi(kernels::shift_basis(state_kernels, m, *ctx.model), m,
-                                     ctx.batch, lspi_options(*ctx.job, point))
-                 : kernels::fit_lspi_copy_basis(state_kernels, m, ctx.batch,
-                                                lspi_options(*ctx.job, point));
+                                     ctx.batch, lspi_options(point))
+                 : kernels::fit_lspi_copy_basis(state_kernels, m, ctx.batch, lspi_options(point));
   fit.status = kernels::to_string(fit.lspi.status);
   fit.message = fit.lspi.message;
   if (fit.lspi.weights.size() == 0) {

@@ -106,8 +106,8 @@ TEST(Study, FitLevelAxesAreVariantsOfOneConfiguration) {
   EXPECT_EQ(points[3].variant, 3);
   EXPECT_EQ(points[4].kernels, 8);
   EXPECT_EQ(points[4].variant, 0);
-  EXPECT_EQ(lspi_options(configuration.job, points[2]).max_iterations, 20);
-  EXPECT_EQ(lspi_options(configuration.job, points[0]).max_iterations, 5);
+  EXPECT_EQ(lspi_options(points[2]).max_iterations, 20);
+  EXPECT_EQ(lspi_options(points[0]).max_iterations, 5);
 }
 
 TEST(Study, FoldDuplicatesIsRunLevel) {
