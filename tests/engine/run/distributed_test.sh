@@ -159,7 +159,11 @@ interrupt)
     [ ! -e "$out.lock" ] || fail "$how: lock file left behind"
     command=$(printed_command "$scratch/log")
     grep -q "under mpirun as before" "$scratch/log" || fail "$how: no word of mpirun"
-    bash -c "$command" 2>/dev/null || fail "$how: the printed command failed: $command"
+    # As a person would: the command is pasted once the ranks are gone (a rank
+    # still exiting holds the HDF5 file's lock; bounded wait, 10 s).
+    for _ in $(seq 100); do [ -z "$(rank_pid 0)$(rank_pid 1)$(rank_pid 2)" ] && break; sleep 0.1; done
+    bash -c "$command" 2>"$scratch/resume-err" ||
+      { cat "$scratch/resume-err" "$scratch/log"; fail "$how: the printed command failed: $command"; }
     "$GGK" diff "$scratch/single.h5" "$out" >/dev/null || fail "$how: resumed results differ"
   done
   ;;
