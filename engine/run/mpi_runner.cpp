@@ -279,6 +279,7 @@ class Coordinator {
   void receive(const MPI_Status& status);
   void stop_for_signal();
   [[noreturn]] void stop_now(const std::string& headline, int exit_status);
+  void report_stop(const std::string& headline);
   std::string runs_in_flight() const;
 
   const JobSpec& job_;
@@ -305,6 +306,7 @@ class Coordinator {
   std::set<int> active_;      // workers not yet told to stop, failed or stopped by a signal
   std::set<int> stopped_;     // workers that reported a stop signal
   int stop_signal_ = 0;
+  bool stop_reported_ = false;  // the stop's report is printed; the job stops
   Clock::time_point stop_deadline_;
 };
 
@@ -398,7 +400,7 @@ std::string Coordinator::runs_in_flight() const {
   return text.empty() ? " none" : text;
 }
 
-void Coordinator::stop_now(const std::string& headline, int exit_status) {
+void Coordinator::report_stop(const std::string& headline) {
   // Runs already written are complete (each is committed whole); the one the
   // writer may be writing is in its staging group, which --resume discards.
   char written[160];
@@ -407,6 +409,10 @@ void Coordinator::stop_now(const std::string& headline, int exit_status) {
   writer_.stop_signals().report(headline, "ggk: runs in flight, computed again by that command:" +
                                               runs_in_flight() + "\n" + written);
   std::fflush(stderr);
+}
+
+void Coordinator::stop_now(const std::string& headline, int exit_status) {
+  report_stop(headline);
   release_stopped_workers();
   std::_Exit(exit_status);
 }
@@ -417,13 +423,20 @@ void Coordinator::release_stopped_workers() {
   stopped_.clear();
 }
 
-// A stop signal here or on a worker. Waits (briefly: mpirun kills a rank 1 s
-// after its SIGTERM) until every worker still computing has reported its own:
+// A stop signal here or on a worker. Reported at once (mpirun sends SIGKILL 1 s
+// after its SIGTERM, sooner than a loaded machine may let a report wait): the
+// signal, the command that finishes the job and the runs in flight. Then waits
+// (briefly) until every worker still computing has reported its own signal:
 // then the job was interrupted (a Ctrl-C, a scheduler), exit 128 + signal. A
 // worker silent past the wait died before the signal (mpirun stops the others
 // when one dies): it is named with its run, exit 1. When nothing is lost (every
-// run written or queued), the job ends normally instead.
+// run written or queued) at the signal, the job ends normally instead.
 void Coordinator::stop_for_signal() {
+  if (!stop_reported_) {
+    stop_reported_ = true;
+    report_stop(std::string(StopSignals::headline_of(stop_signal_)) +
+                (stop_signal_ == SIGTERM ? " (mpirun's, on a Ctrl-C, or a scheduler's)" : ""));
+  }
   if (!active_.empty() && Clock::now() < stop_deadline_) return;
   std::string dead;
   for (const int rank : active_) {
@@ -434,13 +447,14 @@ void Coordinator::stop_for_signal() {
                  : std::string());
   }
   if (!dead.empty()) {
-    stop_now("error: " + dead + " died or was killed: it did not answer the " +
-                 StopSignals::name_of(stop_signal_) + " that mpirun then sent every rank",
-             1);
+    std::fprintf(stderr,
+                 "ggk: error: %s died or was killed: it did not answer the %s that mpirun then "
+                 "sent every rank\n",
+                 dead.c_str(), StopSignals::name_of(stop_signal_));
+    std::fflush(stderr);
   }
-  stop_now(std::string(StopSignals::headline_of(stop_signal_)) +
-               (stop_signal_ == SIGTERM ? " (mpirun's, on a Ctrl-C, or a scheduler's)" : ""),
-           128 + stop_signal_);
+  release_stopped_workers();
+  std::_Exit(dead.empty() ? 128 + stop_signal_ : 1);
 }
 
 int Coordinator::run(RunSummary& summary) {
@@ -452,7 +466,7 @@ int Coordinator::run(RunSummary& summary) {
   while (!active_.empty() || !local_finished_) {
     if (const int signal = writer_.stop_signals().received()) start_stopping(signal);
     if (stop_signal_ != 0) {
-      if (!all_runs_done()) {
+      if (stop_reported_ || !all_runs_done()) {
         stop_for_signal();
       } else if (Clock::now() >= stop_deadline_) {
         break;  // the workers not heard from since are gone; nothing was lost
