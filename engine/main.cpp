@@ -41,23 +41,18 @@ namespace engine = ggk::engine;
 constexpr int kUserError = 2;
 
 int run_command(const std::string& job_path, const engine::RunOptions& options,
-                const std::vector<std::string>& overrides) {
-  engine::JobLoadOptions load;
-  load.check_output = options.output.empty();  // -o replaces the job's output
-  load.overrides = overrides;
-  const engine::JobSpec job = engine::load_job_file(job_path, engine::task_tables(), load);
-  const engine::RunSummary summary = engine::run_job(job, options);
-  engine::print_run_summary(job, summary);
+                const engine::JobLoadOptions& load) {
+  const engine::Study study = engine::load_study(job_path, engine::task_tables(), load);
+  const engine::RunSummary summary = engine::run_study(study, options);
+  engine::print_run_summary(study.job(), summary);
   return 0;
 }
 
 int validate_command(const std::string& job_path, const std::string& output,
-                     const std::vector<std::string>& overrides) {
+                     engine::JobLoadOptions load) {
   // Checks what `ggk run` with the same arguments would: the job file, the
   // overrides, and the output (-o, else the job's, relative to this directory).
   // A study (study.hpp) has every point checked, and its stages listed.
-  engine::JobLoadOptions load;
-  load.overrides = overrides;
   if (!output.empty()) load.output_file = output;
   const engine::Study study = engine::load_study(job_path, engine::task_tables(), load);
   const engine::JobSpec& job = study.job();
@@ -109,6 +104,17 @@ engine::RunRange parse_run_range(const std::string& text) {
     throw engine::UsageError("--runs " + text +
                              ": expected A:B, the runs A..B-1 (e.g. --runs 0:10)");
   }
+}
+
+// --sweep, the same for run and validate.
+void add_sweep_option(CLI::App& command, std::vector<std::string>& sweeps) {
+  command
+      .add_option("--sweep", sweeps,
+                  "KEY=V1,V2,...: make a job key a study axis over these values (e.g. --sweep "
+                  "khepera.motion.turn_deg=15,30,45; --sweep kernels=10,20 replaces an axis); "
+                  "jobs/README.md, Studies")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 }
 
 // --set, the same for run and validate.
@@ -198,7 +204,7 @@ int main(int argc, char** argv) {
   std::string job_path, info_path, runs_text, shard_text;
   engine::RunOptions options;
   std::string output;
-  std::vector<std::string> overrides;
+  std::vector<std::string> overrides, sweeps;
   double rank_timeout = 60.0;
   CLI::App* run = app.add_subcommand("run", "Run a sweep job file, writing one HDF5 file");
   run->add_option("job", job_path, "job file (TOML)")->required();
@@ -206,6 +212,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 4096));
   run->add_option("-o,--output", output, "results file, *.h5 (default: the job's [output] file)");
   add_set_option(*run, overrides);
+  add_sweep_option(*run, sweeps);
   run->add_flag("--resume", options.resume, "continue an interrupted run of the same job");
   run->add_flag("--overwrite", options.overwrite, "replace an existing results file");
   run->add_flag("-q,--quiet", options.quiet, "no progress output");
@@ -225,6 +232,7 @@ int main(int argc, char** argv) {
   validate->add_option("job", job_path, "job file (TOML)")->required();
   validate->add_option("-o,--output", output, "the results file `ggk run -o` would write");
   add_set_option(*validate, overrides);
+  add_sweep_option(*validate, sweeps);
 
   bool info_csv = false;
   CLI::App* info = app.add_subcommand("info", "Describe a results file");
@@ -272,6 +280,9 @@ int main(int argc, char** argv) {
     return status == 0 ? 0 : kUserError;
   }
 
+  engine::JobLoadOptions load;
+  load.overrides = overrides;
+  load.sweeps = sweeps;
   try {
     if (*run) {
       if (options.resume && options.overwrite) {
@@ -285,7 +296,7 @@ int main(int argc, char** argv) {
           throw engine::UsageError("--shard " + shard_text + " and --runs " + runs_text +
                                    " exclude each other: a shard is a range of runs");
         }
-        engine::apply_shard_option(shard_text, job_path, overrides, options);
+        engine::apply_shard_option(shard_text, job_path, load, options);
       }
       if (!quiet_rank) {
         const auto warning =
@@ -296,16 +307,17 @@ int main(int argc, char** argv) {
       if (mpi && mpi->size() > 1) {
         engine::MpiRunOptions mpi_options;
         mpi_options.run = options;
+        mpi_options.load = load;
         mpi_options.load.check_output = options.output.empty();
-        mpi_options.load.overrides = overrides;
         mpi_options.rank_timeout_seconds = rank_timeout;
         return engine::run_job_over_mpi(*mpi, job_path, mpi_options);
       }
 #endif
-      return run_command(job_path, options, overrides);
+      load.check_output = options.output.empty();  // -o replaces the job's output
+      return run_command(job_path, options, load);
     }
     if (quiet_rank) return 0;  // the other commands run on rank 0 alone
-    if (*validate) return validate_command(job_path, output, overrides);
+    if (*validate) return validate_command(job_path, output, load);
     if (*info) {
       engine::print_results_info(info_path, std::cout,
                                  info_csv ? engine::InfoFormat::kCsv : engine::InfoFormat::kText,

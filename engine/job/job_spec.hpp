@@ -84,6 +84,10 @@ struct JobSpec {
   // Every key with the value used, defaults filled in (resolved_config.hpp): what
   // --resume compares, so that respellings and defaults never count.
   ResolvedConfig resolved;
+  // A run configuration of a study (study.hpp) with run-level axes: the group
+  // under /<task> its runs live in ("config_003"). Empty for a plain job, whose
+  // runs are /<task>/run_NNN.
+  std::string configuration_group;
 };
 
 // The job's task configuration as the type its task's table parser returns.

@@ -57,6 +57,10 @@ void ResolvedConfig::record(const std::string& key, std::string value, bool give
   values_.try_emplace(key, Entry{std::move(value), given});
 }
 
+void ResolvedConfig::replace(const std::string& key, std::string value, bool given) {
+  values_.insert_or_assign(key, Entry{std::move(value), given});
+}
+
 std::optional<std::string> ResolvedConfig::value(const std::string& key) const {
   const auto it = values_.find(key);
   if (it == values_.end()) return std::nullopt;

@@ -26,6 +26,8 @@ class ResolvedConfig {
   // TOML text). `given`: the job file or an override set it (false: a default).
   // A key read twice keeps its first record.
   void record(const std::string& key, std::string value, bool given);
+  // Records `key` = `value` whether or not it was recorded before.
+  void replace(const std::string& key, std::string value, bool given);
 
   bool contains(const std::string& key) const { return values_.count(key) > 0; }
   // The canonical value text of `key`, or nullopt.

@@ -58,6 +58,7 @@ struct FitRecord {
 
 struct RunRecord {
   std::int32_t run = 0;
+  std::int32_t configuration = 0;  // its run configuration's index in a study (study.hpp)
   SampleRecord samples;
   kernels::CsrGraph graph;
   kernels::RowMatrixXd node_states;  // graph.num_nodes rows

@@ -329,7 +329,7 @@ Study parse_study(std::string toml_text, const std::filesystem::path& source_fil
     if (!run_axes.empty()) {
       char name[32];
       std::snprintf(name, sizeof name, "config_%03d", configuration.index);
-      configuration.group_name = name;
+      configuration.job.configuration_group = name;
     }
     if (fit_axes.empty()) {
       configuration.variants.push_back({{}, configuration.job.lspi});
@@ -355,9 +355,69 @@ Study parse_study(std::string toml_text, const std::filesystem::path& source_fil
   return study;
 }
 
+ResolvedConfig resolved_of(const Study& study) {
+  ResolvedConfig resolved = study.job().resolved;
+  if (!study.has_axes()) return resolved;
+  std::string axes;
+  for (const StudyAxis& axis : study.axes) {
+    std::string keys;
+    for (std::size_t k = 0; k < axis.keys.size(); ++k) {
+      keys += (k == 0 ? "" : "+") + axis.keys[k];
+      std::string values;
+      for (const auto& value : axis.values) values += (values.empty() ? "" : ", ") + value[k];
+      resolved.replace(axis.keys[k], "[" + values + "]", true);
+    }
+    axes += (axes.empty() ? "" : ", ") + canonical_string(keys);
+  }
+  resolved.replace("study.axes", "[" + axes + "]", true);
+  return resolved;
+}
+
+std::string study_values_text(const std::vector<AxisAssignment>& assignments) {
+  std::string text;
+  for (const AxisAssignment& assignment : assignments) {
+    text += assignment.key + " = " + assignment.value + "\n";
+  }
+  return text;
+}
+
+std::string unit_words(const Study& study, WorkUnit unit) {
+  const std::string run = "run " + std::to_string(unit.run);
+  if (unit.configuration < 0 ||
+      static_cast<std::size_t>(unit.configuration) >= study.configurations.size()) {
+    return run + " of configuration " + std::to_string(unit.configuration);
+  }
+  const std::string& group = study.configurations[unit.configuration].job.configuration_group;
+  return group.empty() ? run : run + " of " + group;
+}
+
+Study study_of(JobSpec job) {
+  Study study;
+  RunConfiguration configuration;
+  configuration.variants.push_back({{}, job.lspi});
+  configuration.job = std::move(job);
+  study.configurations.push_back(std::move(configuration));
+  return study;
+}
+
 Study load_study(const std::filesystem::path& path, std::span<const TaskTable> tasks,
                  const JobLoadOptions& options) {
   return parse_study(read_job_file(path), path, tasks, options);
+}
+
+std::string unquoted(const std::string& value) {
+  if (value.size() >= 2 && value.front() == '"' && value.back() == '"') {
+    return value.substr(1, value.size() - 2);
+  }
+  return value;
+}
+
+std::string variant_label(const FitVariant& variant) {
+  std::string label;
+  for (const AxisAssignment& assignment : variant.assignments) {
+    label += (label.empty() ? "" : ",") + assignment.key + "=" + unquoted(assignment.value);
+  }
+  return label;
 }
 
 std::vector<SweepPoint> expand_points(const RunConfiguration& configuration) {
@@ -368,6 +428,11 @@ std::vector<SweepPoint> expand_points(const RunConfiguration& configuration) {
       point.index = static_cast<std::int32_t>(points.size());
       point.variant = static_cast<std::int32_t>(v);
       point.lspi = configuration.variants[v].lspi;
+      point.variant_label = variant_label(configuration.variants[v]);
+      point.study_values = configuration.assignments;
+      point.study_values.insert(point.study_values.end(),
+                                configuration.variants[v].assignments.begin(),
+                                configuration.variants[v].assignments.end());
       points.push_back(point);
     }
   }

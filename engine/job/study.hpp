@@ -49,13 +49,6 @@
 
 namespace ggk::engine {
 
-// One key = value of an axis, the value as canonical TOML text
-// (resolved_config.hpp: 30 and 30.0 of a float key read alike).
-struct AxisAssignment {
-  std::string key;    // dotted job key, "khepera.motion.turn_deg"
-  std::string value;  // canonical TOML text, "30.0"
-};
-
 enum class StageLevel { kRun, kFit };
 
 // A study axis: one key, or the keys of a [[sweep.zip]] block.
@@ -79,10 +72,17 @@ struct RunConfiguration {
   std::vector<AxisAssignment> assignments;  // run-level values, in axis order
   JobSpec job;                              // the effective job (its fits: expand_sweep)
   std::vector<FitVariant> variants;         // at least one
-  // Where its runs live in a results file, under /<task>/: empty for a job
-  // without run-level axes (runs at /<task>/run_NNN, as always), else
-  // "config_NNN" (the configuration's index).
-  std::string group_name;
+  // Where its runs live in a results file: job.configuration_group, empty for a
+  // job without run-level axes (runs at /<task>/run_NNN, as always), else
+  // "config_NNN" (the configuration's index): /<task>/config_NNN/run_NNN.
+};
+
+// One unit of work: a run of one run configuration; a plain job's units are its
+// runs, configuration 0.
+struct WorkUnit {
+  std::int32_t configuration = 0;
+  std::int32_t run = 0;
+  bool operator==(const WorkUnit&) const = default;
 };
 
 struct Study {
@@ -111,5 +111,27 @@ Study load_study(const std::filesystem::path& path, std::span<const TaskTable> t
 // The fits of one run of a configuration: expand_sweep(configuration.job), each
 // point once per fit variant (the variant varying fastest), renumbered.
 std::vector<SweepPoint> expand_points(const RunConfiguration& configuration);
+
+// SweepPoint::variant_label of a variant's points.
+std::string variant_label(const FitVariant& variant);
+// A canonical value's text without its string quotes ("\"additive\"" -> "additive").
+std::string unquoted(const std::string& value);
+
+// A unit in words, for messages: "run 3", or in a study with run-level axes
+// "run 3 of config_002".
+std::string unit_words(const Study& study, WorkUnit unit);
+
+// A study of one configuration: the plain job, its own LSPI settings.
+Study study_of(JobSpec job);
+
+// What the study computes, as one resolved configuration (what --resume
+// compares): a plain job's own; a study's, its first configuration's with every
+// axis key holding its array of values ("[15.0, 30.0]") and `study.axes` the
+// axes' keys in order, zipped keys joined by '+'.
+ResolvedConfig resolved_of(const Study& study);
+
+// A configuration's study values as stored with its group: `key = value`
+// lines, in axis order.
+std::string study_values_text(const std::vector<AxisAssignment>& assignments);
 
 }  // namespace ggk::engine

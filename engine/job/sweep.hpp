@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -17,6 +18,13 @@ namespace ggk::engine {
 // The keys of a job file's [sweep] table, one per axis.
 inline constexpr std::array<std::string_view, 5> kSweepTableKeys = {"basis", "kernels", "sigma",
                                                                     "solver", "lambda"};
+
+// One key = value of a study axis (study.hpp), the value as canonical TOML text
+// (resolved_config.hpp: 30 and 30.0 of a float key read alike).
+struct AxisAssignment {
+  std::string key;    // dotted job key, "khepera.motion.turn_deg"
+  std::string value;  // canonical TOML text, "30.0"
+};
 
 struct SweepPoint {
   std::int32_t index = 0;  // position in expand_sweep()'s result
@@ -30,6 +38,13 @@ struct SweepPoint {
   // job's [lspi] for a job without such axes).
   std::int32_t variant = 0;
   LspiSettings lspi;
+  // The variant's study keys as `key=value` joined by ',' ("lspi.max_iterations=50"),
+  // string values unquoted; empty without fit-level study keys. Part of the fit's
+  // group name (run_store.hpp).
+  std::string variant_label;
+  // Every study axis's value at this fit: the run configuration's, then the
+  // variant's (the summary's axis columns). Empty for a job without study axes.
+  std::vector<AxisAssignment> study_values;
 };
 
 std::vector<SweepPoint> expand_sweep(const JobSpec& job);

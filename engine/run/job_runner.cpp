@@ -29,6 +29,43 @@ RunRecord compute_run(const JobSpec& job, std::int32_t run) {
   return task->compute_run(job, run, points);
 }
 
+RunRecord compute_unit(const Study& study, WorkUnit unit) {
+  const RunConfiguration& configuration = study.configurations.at(unit.configuration);
+  const TaskDefinition* task = find_task(configuration.job.task);
+  if (task == nullptr) {
+    throw std::logic_error("job names task '" + configuration.job.task + "', not registered");
+  }
+  RunRecord record =
+      task->compute_run(configuration.job, unit.run, expand_points(configuration));
+  record.configuration = unit.configuration;
+  return record;
+}
+
+void check_study_memory(const Study& study, const RunOptions& options) {
+  const JobSpec* largest = &study.job();
+  double largest_bytes = 0.0;
+  for (const RunConfiguration& configuration : study.configurations) {
+    const double bytes = estimate_job_memory(configuration.job, 1, 1).per_run;
+    if (bytes > largest_bytes) {
+      largest_bytes = bytes;
+      largest = &configuration.job;
+    }
+  }
+  RunOptions counted = options;
+  if (study.configurations.size() > 1) {  // every configuration's runs are units at once
+    const std::int64_t per_configuration =
+        options.runs ? options.runs->last - options.runs->first : largest->runs;
+    const std::int64_t units =
+        per_configuration * static_cast<std::int64_t>(study.configurations.size());
+    JobSpec widened = *largest;
+    widened.runs = static_cast<std::int32_t>(std::min<std::int64_t>(units, INT32_MAX));
+    counted.runs.reset();
+    check_memory(widened, counted);
+    return;
+  }
+  check_memory(*largest, counted);
+}
+
 std::int64_t failed_fits_of(const RunRecord& record) {
   std::int64_t failed = 0;
   for (const FitRecord& fit : record.fits) {
@@ -65,26 +102,30 @@ void print_run_summary(const JobSpec& job, const RunSummary& s) {
 }
 
 RunSummary run_job(const JobSpec& job, const RunOptions& options) {
+  return run_study(study_of(job), options);
+}
+
+RunSummary run_study(const Study& study, const RunOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   const ComputeThreads threads(options.threads);
-  check_memory(job, options);  // before the output is created or touched
-  OpenedResults opened = open_results(job, options);
+  check_study_memory(study, options);  // before the output is created or touched
+  OpenedResults opened = open_results(study, options);
   print_notes(opened.notes);
   RunSummary summary;
   summary.output = opened.target.output();
   summary.runs_skipped = opened.skipped;
-  const std::vector<std::int32_t> pending = std::move(opened.pending);
-  const auto fits_per_run = static_cast<std::int32_t>(expand_sweep(job).size());
+  const std::vector<WorkUnit> pending = std::move(opened.pending);
 
-  std::atomic<std::int64_t> failed_fits{0};
-  JobWriter writer(job, options, std::move(opened), static_cast<std::int32_t>(pending.size()),
+  std::atomic<std::int64_t> failed_fits{0}, fits{0};
+  JobWriter writer(study, options, std::move(opened), static_cast<std::int32_t>(pending.size()),
                    StopSignals::Mode::kStopInHandler);
   try {
     tbb::parallel_for(
         std::size_t{0}, pending.size(),
         [&](std::size_t i) {
-          auto record = std::make_shared<const RunRecord>(compute_run(job, pending[i]));
+          auto record = std::make_shared<const RunRecord>(compute_unit(study, pending[i]));
           failed_fits.fetch_add(failed_fits_of(*record));
+          fits.fetch_add(static_cast<std::int64_t>(record->fits.size()));
           writer.commit(std::move(record));
         },
         tbb::simple_partitioner());
@@ -105,7 +146,7 @@ RunSummary run_job(const JobSpec& job, const RunOptions& options) {
   }
 
   summary.runs_computed = static_cast<std::int32_t>(pending.size());
-  summary.fits = static_cast<std::int64_t>(pending.size()) * fits_per_run;
+  summary.fits = fits.load();
   summary.failed_fits = failed_fits.load();
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

@@ -16,6 +16,7 @@
 
 #include "engine/job/job_spec.hpp"
 #include "engine/job/run_record.hpp"
+#include "engine/job/study.hpp"
 #include "engine/job/usage_error.hpp"
 
 namespace ggk::engine {
@@ -59,6 +60,8 @@ class RunFailure : public std::runtime_error {
 };
 
 RunSummary run_job(const JobSpec& job, const RunOptions& options);
+// A study: its units over oneTBB's threads, every configuration in one file.
+RunSummary run_study(const Study& study, const RunOptions& options);
 
 // The CLI's closing lines on stderr: runs computed and skipped, fits, failures,
 // time, and where the results are.
@@ -66,6 +69,12 @@ void print_run_summary(const JobSpec& job, const RunSummary& summary);
 
 // Runs one run of the job's task for every sweep point (no I/O).
 RunRecord compute_run(const JobSpec& job, std::int32_t run);
+// One unit of a study: the run of its configuration, every fit of every variant.
+RunRecord compute_unit(const Study& study, WorkUnit unit);
+
+// The largest configuration's memory check (memory_check.hpp) for the study's
+// units to compute.
+void check_study_memory(const Study& study, const RunOptions& options);
 
 // The fits of `record` that failed (status invalid or solver_failed).
 std::int64_t failed_fits_of(const RunRecord& record);

@@ -17,13 +17,15 @@ StopSignals::Report stop_report(const ResultsTarget& target, const GoOnText& go_
 
 }  // namespace
 
-JobWriter::JobWriter(const JobSpec& job, const RunOptions& options, OpenedResults opened,
+JobWriter::JobWriter(const Study& study, const RunOptions& options, OpenedResults opened,
                      std::int32_t runs_to_write, StopSignals::Mode mode)
-    : job_(job),
+    : study_(study),
       target_(std::move(opened.target)),
-      go_on_(go_on_text(job, options, target_.output(), mode == StopSignals::Mode::kRecord)),
+      go_on_(go_on_text(study.job(), options, target_.output(),
+                        mode == StopSignals::Mode::kRecord)),
       stop_signals_(mode, stop_report(target_, go_on_)),
-      progress_(std::in_place, runs_to_write, static_cast<std::int32_t>(expand_sweep(job).size()),
+      progress_(std::in_place, runs_to_write,
+                static_cast<std::int32_t>(expand_points(study.configurations.front()).size()),
                 options.quiet),
       writer_(std::move(opened.file), StoreWriter::kDefaultQueueCapacity,
               StoreWriter::WhenIdle::kCloseForReaders) {}
@@ -36,17 +38,17 @@ void JobWriter::committed() {
 
 void JobWriter::commit(std::shared_ptr<const RunRecord> record) {
   writer_.submit([this, record = std::move(record)](Hdf5File& file) {
-    write_run(file, job_, *record);
+    write_run(file, study_.configurations.at(record->configuration).job, *record);
     target_.publish(file);  // a new file takes its name with its first run
     committed();
   });
 }
 
-void JobWriter::commit_image(std::int32_t run,
+void JobWriter::commit_image(std::int32_t configuration, std::int32_t run,
                              std::shared_ptr<const std::vector<unsigned char>> bytes,
                              std::size_t offset) {
-  writer_.submit([this, run, bytes = std::move(bytes), offset](Hdf5File& file) {
-    write_run_image(file, job_, run,
+  writer_.submit([this, configuration, run, bytes = std::move(bytes), offset](Hdf5File& file) {
+    write_run_image(file, study_.configurations.at(configuration).job, run,
                     std::span<const unsigned char>(bytes->data() + offset, bytes->size() - offset));
     target_.publish(file);
     committed();
@@ -57,7 +59,7 @@ void JobWriter::finish() {
   writer_.wait();
   progress_.reset();  // its final line before the summary's
   writer_.submit([this](Hdf5File& file) {
-    write_summary(file, job_);
+    write_summary(file, study_.job());
     target_.publish(file);
   });
   writer_.close();

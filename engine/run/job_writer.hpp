@@ -25,6 +25,7 @@
 
 #include "engine/job/job_spec.hpp"
 #include "engine/job/run_record.hpp"
+#include "engine/job/study.hpp"
 #include "engine/run/open_results.hpp"
 #include "engine/run/progress.hpp"
 #include "engine/run/resume_command.hpp"
@@ -39,15 +40,16 @@ class JobWriter {
  public:
   // runs_to_write: the progress display's total. mode: kStopInHandler for a
   // single process, kRecord for rank 0 of an MPI job (which then calls stop()).
-  JobWriter(const JobSpec& job, const RunOptions& options, OpenedResults opened,
+  // `study` (a plain job: study_of(job)) must outlive the writer.
+  JobWriter(const Study& study, const RunOptions& options, OpenedResults opened,
             std::int32_t runs_to_write, StopSignals::Mode mode);
   JobWriter(const JobWriter&) = delete;
   JobWriter& operator=(const JobWriter&) = delete;
 
   void commit(std::shared_ptr<const RunRecord> record);
-  // The run's image is bytes[offset..].
-  void commit_image(std::int32_t run, std::shared_ptr<const std::vector<unsigned char>> bytes,
-                    std::size_t offset);
+  // The image of the run of configuration `configuration` is bytes[offset..].
+  void commit_image(std::int32_t configuration, std::int32_t run,
+                    std::shared_ptr<const std::vector<unsigned char>> bytes, std::size_t offset);
 
   void wait() { writer_.wait(); }
   bool failed() const { return writer_.failed(); }
@@ -62,7 +64,7 @@ class JobWriter {
  private:
   void committed();  // on the writer thread, after a run is written
 
-  const JobSpec& job_;
+  const Study& study_;
   ResultsTarget target_;  // before writer_: the lock outlives the file
   const GoOnText go_on_;
   StopSignals stop_signals_;

@@ -65,8 +65,19 @@ constexpr auto kStopAckWait = std::chrono::milliseconds(2000);
 // Header of a result message, before the image bytes.
 struct ResultHeader {
   std::int64_t run = 0;
+  std::int64_t configuration = 0;
   std::int64_t failed_fits = 0;
 };
+
+// A unit of work (study.hpp) as the one int64 an assignment sends, and back.
+std::int64_t encode(WorkUnit unit) {
+  return (static_cast<std::int64_t>(unit.configuration) << 32) |
+         static_cast<std::int64_t>(static_cast<std::uint32_t>(unit.run));
+}
+WorkUnit decode(std::int64_t value) {
+  return {static_cast<std::int32_t>(value >> 32),
+          static_cast<std::int32_t>(static_cast<std::uint32_t>(value & 0xffffffff))};
+}
 
 std::string processor_name() {
   char name[MPI_MAX_PROCESSOR_NAME];
@@ -174,7 +185,7 @@ Outcome check_same_job(const JobSpec& job, int rank) {
   std::_Exit(128 + signal);
 }
 
-int work(const JobSpec& job) {
+int work(const Study& study) {
   const StopSignals stop_signals(StopSignals::Mode::kRecord);
   MPI_Send(nullptr, 0, MPI_BYTE, 0, kReady, MPI_COMM_WORLD);
   for (;;) {
@@ -190,8 +201,10 @@ int work(const JobSpec& job) {
     }
     if (status.MPI_TAG == kStop) return 0;
     // Compute on oneTBB's threads; this (the MPI) thread says it is alive.
-    std::future<RunRecord> computing = std::async(std::launch::async, [&job, run] {
-      return compute_run(job, static_cast<std::int32_t>(run));
+    const WorkUnit unit = decode(run);
+    const JobSpec& job = study.configurations.at(unit.configuration).job;
+    std::future<RunRecord> computing = std::async(std::launch::async, [&study, unit] {
+      return compute_unit(study, unit);
     });
     auto last_heartbeat = Clock::now();
     while (computing.wait_for(kStopPoll) != std::future_status::ready) {
@@ -204,19 +217,19 @@ int work(const JobSpec& job) {
     std::vector<unsigned char> message;
     try {
       const RunRecord record = computing.get();
-      const ResultHeader header{run, failed_fits_of(record)};
+      const ResultHeader header{unit.run, unit.configuration, failed_fits_of(record)};
       const std::vector<unsigned char> image = run_image(job, record);
       message.resize(sizeof header + image.size());
       std::memcpy(message.data(), &header, sizeof header);
       std::memcpy(message.data() + sizeof header, image.data(), image.size());
       if (message.size() > static_cast<std::size_t>(INT32_MAX)) {
-        throw std::runtime_error("run " + std::to_string(run) + " is " +
+        throw std::runtime_error(unit_words(study, unit) + " is " +
                                  std::to_string(message.size()) +
                                  " bytes, over MPI's 2 GiB message limit");
       }
     } catch (const std::exception& e) {
       const std::string text =
-          "run " + std::to_string(run) + " on " + processor_name() + ": " + e.what();
+          unit_words(study, unit) + " on " + processor_name() + ": " + e.what();
       MPI_Send(text.data(), static_cast<int>(text.size()), MPI_CHAR, 0, kFailed, MPI_COMM_WORLD);
       return 1;
     }
@@ -228,14 +241,14 @@ int work(const JobSpec& job) {
 // --------------------------------------------------------------- rank 0
 class Coordinator {
  public:
-  Coordinator(const JobSpec& job, const MpiRunOptions& options, int size, OpenedResults opened)
-      : job_(job),
+  Coordinator(const Study& study, const MpiRunOptions& options, int size, OpenedResults opened)
+      : study_(study),
         options_(options),
         size_(size),
         skipped_(opened.skipped),
         pending_(opened.pending.begin(), opened.pending.end()),
         total_(static_cast<std::int32_t>(opened.pending.size())),
-        writer_(job, options.run, std::move(opened), total_, StopSignals::Mode::kRecord) {}
+        writer_(study, options.run, std::move(opened), total_, StopSignals::Mode::kRecord) {}
 
   // Returns the exit status; fills summary on success.
   int run(RunSummary& summary);
@@ -243,10 +256,10 @@ class Coordinator {
   void release_stopped_workers();
 
  private:
-  std::optional<std::int32_t> take_run() {
+  std::optional<WorkUnit> take_run() {
     std::lock_guard lock(mutex_);
     if (pending_.empty() || !failure_.empty() || stopping_) return std::nullopt;
-    const std::int32_t run = pending_.front();
+    const WorkUnit run = pending_.front();
     pending_.pop_front();
     return run;
   }
@@ -282,17 +295,17 @@ class Coordinator {
   void report_stop(const std::string& headline);
   std::string runs_in_flight() const;
 
-  const JobSpec& job_;
+  const Study& study_;
   const MpiRunOptions& options_;
   const int size_;
   const std::int32_t skipped_;
 
   std::mutex mutex_;  // pending_, failure_, stopping_
-  std::deque<std::int32_t> pending_;
+  std::deque<WorkUnit> pending_;
   std::string failure_;
   bool stopping_ = false;
   std::atomic<bool> local_finished_{false};
-  std::atomic<std::int32_t> local_run_{-1};  // the run rank 0 computes, -1: none
+  std::atomic<std::int64_t> local_run_{-1};  // the unit rank 0 computes (encode), -1: none
 
   const std::int32_t total_;
   std::atomic<std::int64_t> failed_fits_{0};
@@ -300,6 +313,7 @@ class Coordinator {
 
   struct Held {
     std::int32_t run = -1;  // -1: none
+    std::int32_t configuration = 0;
     Clock::time_point last_heard;
   };
   std::map<int, Held> held_;  // worker rank -> its run
@@ -311,14 +325,14 @@ class Coordinator {
 };
 
 void Coordinator::compute_locally() {
-  while (const std::optional<std::int32_t> run = take_run()) {
-    local_run_ = *run;
+  while (const std::optional<WorkUnit> run = take_run()) {
+    local_run_ = encode(*run);
     try {
-      auto record = std::make_shared<const RunRecord>(compute_run(job_, *run));
+      auto record = std::make_shared<const RunRecord>(compute_unit(study_, *run));
       failed_fits_.fetch_add(failed_fits_of(*record));
       writer_.commit(std::move(record));
     } catch (const std::exception& e) {
-      fail("run " + std::to_string(*run) + " on rank 0: " + e.what());
+      fail(unit_words(study_, *run) + " on rank 0: " + e.what());
     }
     local_run_ = -1;
   }
@@ -326,9 +340,9 @@ void Coordinator::compute_locally() {
 }
 
 void Coordinator::assign_or_stop(int rank) {
-  if (const std::optional<std::int32_t> run = take_run()) {
-    const std::int64_t value = *run;
-    held_[rank] = {*run, Clock::now()};
+  if (const std::optional<WorkUnit> run = take_run()) {
+    const std::int64_t value = encode(*run);
+    held_[rank] = {run->run, run->configuration, Clock::now()};
     MPI_Send(&value, 1, MPI_INT64_T, rank, kAssign, MPI_COMM_WORLD);
   } else {
     const std::int64_t none = -1;
@@ -356,7 +370,8 @@ void Coordinator::receive(const MPI_Status& status) {
       if (bytes->size() < sizeof header) throw std::runtime_error("short result message");
       std::memcpy(&header, bytes->data(), sizeof header);
       failed_fits_.fetch_add(header.failed_fits);
-      writer_.commit_image(static_cast<std::int32_t>(header.run), std::move(bytes),
+      writer_.commit_image(static_cast<std::int32_t>(header.configuration),
+                           static_cast<std::int32_t>(header.run), std::move(bytes),
                            sizeof(ResultHeader));
       held_[rank].run = -1;
       assign_or_stop(rank);
@@ -385,16 +400,16 @@ void Coordinator::receive(const MPI_Status& status) {
 
 std::string Coordinator::runs_in_flight() const {
   std::string text;
-  if (const std::int32_t run = local_run_; run >= 0) {
-    text += "\n  run " + std::to_string(run) + " on rank 0";
+  if (const std::int64_t run = local_run_; run >= 0) {
+    text += "\n  " + unit_words(study_, decode(run)) + " on rank 0";
   }
   const auto now = Clock::now();
   for (const auto& [rank, held] : held_) {
     if (held.run < 0) continue;
     const double silent = std::chrono::duration<double>(now - held.last_heard).count();
     char line[160];
-    std::snprintf(line, sizeof line, "\n  run %d on rank %d (silent for %.1f s)", held.run, rank,
-                  silent);
+    std::snprintf(line, sizeof line, "\n  %s on rank %d (silent for %.1f s)",
+                  unit_words(study_, {held.configuration, held.run}).c_str(), rank, silent);
     text += line;
   }
   return text.empty() ? " none" : text;
@@ -443,7 +458,8 @@ void Coordinator::stop_for_signal() {
     const auto held = held_.find(rank);
     dead += (dead.empty() ? "" : ", ") + std::string("rank ") + std::to_string(rank) +
             (held != held_.end() && held->second.run >= 0
-                 ? " (holding run " + std::to_string(held->second.run) + ")"
+                 ? " (holding " +
+                       unit_words(study_, {held->second.configuration, held->second.run}) + ")"
                  : std::string());
   }
   if (!dead.empty()) {
@@ -459,7 +475,8 @@ void Coordinator::stop_for_signal() {
 
 int Coordinator::run(RunSummary& summary) {
   const auto started = Clock::now();
-  const auto fits_per_run = static_cast<std::int32_t>(expand_sweep(job_).size());
+  const auto fits_per_run =
+      static_cast<std::int32_t>(expand_points(study_.configurations.front()).size());
   for (int rank = 1; rank < size_; ++rank) active_.insert(rank);
 
   std::thread local([this] { compute_locally(); });
@@ -484,8 +501,8 @@ int Coordinator::run(RunSummary& summary) {
       const double silent = std::chrono::duration<double>(now - held.last_heard).count();
       if (held.run >= 0 && silent > options_.rank_timeout_seconds && stop_signal_ == 0) {
         stop_now("error: rank " + std::to_string(rank) + " stopped answering (silent for " +
-                     std::to_string(static_cast<int>(silent)) + " s) while holding run " +
-                     std::to_string(held.run),
+                     std::to_string(static_cast<int>(silent)) + " s) while holding " +
+                     unit_words(study_, {held.configuration, held.run}),
                  1);
       }
     }
@@ -542,39 +559,40 @@ MpiSession::~MpiSession() {
 int run_job_over_mpi(const MpiSession& session, const std::filesystem::path& job_path,
                      const MpiRunOptions& options) {
   const int rank = session.rank(), size = session.size();
-  std::optional<JobSpec> job;
+  std::optional<Study> study;
   std::optional<ComputeThreads> threads;
   // Rank 0 checks the output's folder; the others only read the job.
   JobLoadOptions load = options.load;
   if (rank != 0) load.check_output = false;
   if (const int status = agree(attempt([&] {
-                                 job.emplace(load_job_file(job_path, task_tables(), load));
+                                 study.emplace(load_study(job_path, task_tables(), load));
                                  threads.emplace(options.run.threads);
                                }),
                                rank, size)) {
     return status;
   }
-  if (const int status = agree(check_same_job(*job, rank), rank, size)) return status;
+  const JobSpec& job = study->job();
+  if (const int status = agree(check_same_job(job, rank), rank, size)) return status;
 
   std::optional<OpenedResults> opened;
   if (rank == 0) {
     const Outcome outcome = attempt([&] {
-      check_memory(*job, options.run);  // before the output is created or touched
-      opened.emplace(open_results(*job, options.run));
+      check_study_memory(*study, options.run);  // before the output is created or touched
+      opened.emplace(open_results(*study, options.run));
     });
     if (const int status = agree(outcome, rank, size)) return status;
   } else if (const int status = agree({}, rank, size)) {
     return status;
   }
 
-  if (rank != 0) return work(*job);
+  if (rank != 0) return work(*study);
 
   int status = 0;
   const Outcome outcome = attempt([&] {
-    Coordinator coordinator(*job, options, size, std::move(*opened));
+    Coordinator coordinator(*study, options, size, std::move(*opened));
     RunSummary summary;
     status = coordinator.run(summary);
-    if (status == 0) print_run_summary(*job, summary);
+    if (status == 0) print_run_summary(job, summary);
     std::fflush(stderr);
     coordinator.release_stopped_workers();  // a stop signal that came after the last run
   });

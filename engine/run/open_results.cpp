@@ -88,7 +88,8 @@ std::optional<RunsSelected> selection(const JobSpec& job, const std::optional<Ru
 
 // The file is the same job's (parsed job, input files), or a UsageError says
 // what differs.
-void check_same_job(const Hdf5File& file, const JobSpec& job, const fs::path& output) {
+void check_same_job(const Hdf5File& file, const Study& study, const fs::path& output) {
+  const JobSpec& job = study.job();
   ResultsHeader header;
   try {
     header = read_results_header(file);
@@ -116,8 +117,8 @@ void check_same_job(const Hdf5File& file, const JobSpec& job, const fs::path& ou
                        "its complete runs)");
     }
     static const std::set<std::string> kNotResults = {"output.file", "output.compression"};
-    difference =
-        recorded->difference(job.resolved, "the results file", "the job file", kNotResults);
+    difference = recorded->difference(resolved_of(study), "the results file", "the job file",
+                                      kNotResults);
   } else {
     difference = job_difference(header.job, job.source_text);
   }
@@ -173,29 +174,47 @@ Hdf5File open_for_resume(const fs::path& output, std::vector<std::string>& notes
   return open_as_user([&] { return Hdf5File::open_read_write(output); });
 }
 
-Hdf5File resume(const JobSpec& job, const RunOptions& options, const fs::path& output,
-                std::vector<std::int32_t>& complete, std::vector<std::string>& notes) {
+// The run-level values of a configuration, for messages: "" for a plain job,
+// else " of configuration 3 (khepera.motion.turn_deg = 45.0)".
+std::string configuration_words(const RunConfiguration& configuration) {
+  if (configuration.job.configuration_group.empty()) return "";
+  std::string values;
+  for (const AxisAssignment& a : configuration.assignments) {
+    values += (values.empty() ? "" : ", ") + a.key + " = " + a.value;
+  }
+  return " of configuration " + std::to_string(configuration.index) + " (" + values + ")";
+}
+
+Hdf5File resume(const Study& study, const RunOptions& options, const fs::path& output,
+                std::vector<std::vector<std::int32_t>>& complete,
+                std::vector<std::string>& notes) {
   Hdf5File file = open_for_resume(output, notes);
-  check_same_job(file, job, output);
-  complete = prepare_for_resume(file, job);
-  // A run marked complete is kept only if every dataset in it reads back with a
-  // good checksum; a damaged one is dropped and computed again.
-  std::erase_if(complete, [&](std::int32_t run) {
-    const std::optional<std::string> damage = verify_run(file, job.task, run);
-    if (!damage) return false;
-    notes.push_back("run " + std::to_string(run) + " of " + output.string() + " is damaged (" +
-                    *damage + "): computing it again");
-    discard_run(file, job.task, run);
-    return true;
-  });
+  check_same_job(file, study, output);
+  for (const RunConfiguration& configuration : study.configurations) {
+    const JobSpec& job = configuration.job;
+    const std::string location = runs_location(job);
+    std::vector<std::int32_t> kept = prepare_for_resume(file, job);
+    // A run marked complete is kept only if every dataset in it reads back with a
+    // good checksum; a damaged one is dropped and computed again.
+    std::erase_if(kept, [&](std::int32_t run) {
+      const std::optional<std::string> damage = verify_run(file, location, run);
+      if (!damage) return false;
+      notes.push_back("run " + std::to_string(run) + configuration_words(configuration) + " of " +
+                      output.string() + " is damaged (" + *damage + "): computing it again");
+      discard_run(file, location, run);
+      return true;
+    });
+    complete.push_back(std::move(kept));
+  }
   // A resumed file is for the selection it was last run with.
-  write_runs_selected(file, selection(job, options.runs));
+  write_runs_selected(file, selection(study.job(), options.runs));
   file.flush();
   return file;
 }
 
-// The root attributes of a new results file of `job`.
-ResultsHeader new_header(const JobSpec& job, const RunOptions& options) {
+// The root attributes of a new results file of `study`.
+ResultsHeader new_header(const Study& study, const RunOptions& options) {
+  const JobSpec& job = study.job();
   ResultsHeader header;
   header.job = job.source_text;
   header.job_file = job.source_file.string();
@@ -209,16 +228,27 @@ ResultsHeader new_header(const JobSpec& job, const RunOptions& options) {
   for (const std::string& text : job.overrides) {
     header.job_overrides += (header.job_overrides.empty() ? "" : "\n") + text;
   }
-  header.job_resolved = job.resolved.text();
+  for (const std::string& text : job.sweeps) {
+    header.job_sweeps += (header.job_sweeps.empty() ? "" : "\n") + text;
+  }
+  header.job_resolved = resolved_of(study).text();
   header.runs_selected = selection(job, options.runs);
   return header;
 }
 
-Hdf5File create_new(const JobSpec& job, const RunOptions& options, const fs::path& path) {
+Hdf5File create_new(const Study& study, const RunOptions& options, const fs::path& path) {
   Hdf5File file =
       open_as_user([&] { return Hdf5File::create(path, Hdf5File::CreateMode::kFailIfExists); });
-  write_results_header(file, new_header(job, options));
-  file.create_group("/" + job.task);
+  write_results_header(file, new_header(study, options));
+  file.create_group("/" + study.job().task);
+  for (const RunConfiguration& configuration : study.configurations) {
+    if (configuration.job.configuration_group.empty()) continue;
+    const std::string group = "/" + runs_location(configuration.job);
+    file.create_group(group);
+    file.write_int64_attribute(group, "configuration", configuration.index);
+    file.write_string_attribute(group, "study_values",
+                                study_values_text(configuration.assignments));
+  }
   file.flush();
   return file;
 }
@@ -259,7 +289,8 @@ void ResultsTarget::publish(Hdf5File& file) {
   file.renamed_to(output_);
 }
 
-OpenedResults open_results(const JobSpec& job, const RunOptions& options) {
+OpenedResults open_results(const Study& study, const RunOptions& options) {
+  const JobSpec& job = study.job();
   const fs::path output = options.output.empty() ? job.output.file : options.output;
   if (options.runs && (options.runs->first < 0 || options.runs->first >= options.runs->last ||
                        options.runs->last > job.runs)) {
@@ -287,13 +318,13 @@ OpenedResults open_results(const JobSpec& job, const RunOptions& options) {
   }
   state = output_state(output);
 
-  std::vector<std::int32_t> complete;
+  std::vector<std::vector<std::int32_t>> complete;  // per configuration
   std::vector<std::string> notes;
   std::optional<ResultsTarget> target;
   std::optional<Hdf5File> file;
   if (state == OutputState::kFile && options.resume) {
     target.emplace(output, fs::path(), std::move(lock));
-    file.emplace(resume(job, options, output, complete, notes));
+    file.emplace(resume(study, options, output, complete, notes));
   } else {
     if (state == OutputState::kFile && !options.overwrite) {
       throw UsageError(
@@ -306,17 +337,20 @@ OpenedResults open_results(const JobSpec& job, const RunOptions& options) {
                       " is empty (a ggk killed while creating it): starting it afresh");
     }
     target.emplace(output, temporary, std::move(lock));  // removes the .part on failure
-    file.emplace(create_new(job, options, temporary));
+    file.emplace(create_new(study, options, temporary));
   }
   OpenedResults opened{std::move(*target), std::move(*file), {}, 0, std::move(notes)};
   opened.file.set_gzip_level(job.output.compression);
   const std::int32_t first = options.runs ? options.runs->first : 0;
   const std::int32_t last = options.runs ? options.runs->last : job.runs;
-  for (std::int32_t run = first; run < last; ++run) {
-    if (std::binary_search(complete.begin(), complete.end(), run)) {
-      ++opened.skipped;
-    } else {
-      opened.pending.push_back(run);
+  complete.resize(study.configurations.size());
+  for (std::size_t c = 0; c < study.configurations.size(); ++c) {
+    for (std::int32_t run = first; run < last; ++run) {
+      if (std::binary_search(complete[c].begin(), complete[c].end(), run)) {
+        ++opened.skipped;
+      } else {
+        opened.pending.push_back({static_cast<std::int32_t>(c), run});
+      }
     }
   }
   return opened;

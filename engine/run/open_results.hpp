@@ -28,6 +28,7 @@
 
 #include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_spec.hpp"
+#include "engine/job/study.hpp"
 #include "engine/store/output_lock.hpp"
 
 namespace ggk::engine {
@@ -69,12 +70,15 @@ class ResultsTarget {
 struct OpenedResults {
   ResultsTarget target;  // declared first: outlives the file
   Hdf5File file;
-  std::vector<std::int32_t> pending;  // runs still to compute, ascending
-  std::int32_t skipped = 0;           // runs of the selection already complete
-  std::vector<std::string> notes;     // what the caller should tell the user
+  // Runs still to compute, configuration by configuration, each ascending.
+  std::vector<WorkUnit> pending;
+  std::int32_t skipped = 0;        // runs of the selection already complete
+  std::vector<std::string> notes;  // what the caller should tell the user
 };
 
-OpenedResults open_results(const JobSpec& job, const RunOptions& options);
+// A study's file (a plain job: study_of(job)): its configurations' groups, and
+// its units; --runs selects the same runs of every configuration.
+OpenedResults open_results(const Study& study, const RunOptions& options);
 
 // The version of this ggk and the `git describe` of its source when it was
 // configured: what every results file records (ggk_version, git).

@@ -20,6 +20,10 @@ std::vector<std::string> invocation_words(const JobSpec& job, const RunOptions& 
     words.push_back("--set");
     words.push_back(text);
   }
+  for (const std::string& text : job.sweeps) {
+    words.push_back("--sweep");
+    words.push_back(text);
+  }
   if (options.runs) {
     words.push_back("--runs");
     words.push_back(std::to_string(options.runs->first) + ":" + std::to_string(options.runs->last));

@@ -126,12 +126,11 @@ void select_shard(const Shard& shard, const JobSpec& job, RunOptions& options) {
   options.output = shard_output(options.output.empty() ? job.output.file : options.output, shard);
 }
 
-void apply_shard_option(std::string_view text, const fs::path& job_path,
-                        const std::vector<std::string>& overrides, RunOptions& options) {
-  JobLoadOptions load;
+void apply_shard_option(std::string_view text, const fs::path& job_path, JobLoadOptions load,
+                        RunOptions& options) {
   load.check_output = false;  // the shard's file is checked when it is opened
-  load.overrides = overrides;
-  const JobSpec job = load_job_file(job_path, task_tables(), load);
+  const Study study = load_study(job_path, task_tables(), load);
+  const JobSpec& job = study.job();
   const auto environment = [](const char* name) -> const char* { return std::getenv(name); };
   select_shard(parse_shard(text, environment), job, options);
 }
@@ -140,8 +139,8 @@ std::vector<fs::path> shards_of_job(const fs::path& job_path, std::string& outpu
                                     bool allow_missing) {
   JobLoadOptions load;
   load.check_output = false;
-  const JobSpec job = load_job_file(job_path, task_tables(), load);
-  if (output.empty()) output = job.output.file.string();
+  const Study study = load_study(job_path, task_tables(), load);
+  if (output.empty()) output = study.job().output.file.string();
   return find_shards(output, allow_missing);
 }
 

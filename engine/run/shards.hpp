@@ -54,7 +54,7 @@ void select_shard(const Shard& shard, const JobSpec& job, RunOptions& options);
 // overrides; its output unchecked) for its runs and output, then select_shard;
 // "slurm" reads the process's environment.
 void apply_shard_option(std::string_view text, const std::filesystem::path& job_path,
-                        const std::vector<std::string>& overrides, RunOptions& options);
+                        JobLoadOptions load, RunOptions& options);
 
 // `ggk merge [OUT] --shards-of JOB`: sets an empty `output` to the job's output and
 // returns find_shards(output, allow_missing).

@@ -150,6 +150,7 @@ struct FitRow {
 struct ResultsContents {
   ResultsHeader header;
   std::size_t complete_runs = 0;
+  std::size_t configurations = 1;         // a study's run configurations (run_store.hpp)
   bool summary_written = false;           // /<task>/summary exists
   std::vector<std::string> axis_names;    // the sweep point's axes (basis, kernels, ...)
   std::vector<std::string> metric_names;  // the metrics the task reports, then fit_seconds
@@ -183,34 +184,48 @@ ResultsContents read_contents(const Hdf5File& file) {
   }
   const std::string& task = contents.header.task;
   const auto runs = static_cast<std::int32_t>(contents.header.runs);
-  const std::vector<std::int32_t> complete = complete_runs(file, task, runs);
-  contents.complete_runs = complete.size();
+  const std::vector<std::string> locations = runs_locations(file, task);
+  if (locations.front() != task) contents.configurations = locations.size();
   contents.summary_written = file.exists("/" + task + "/summary");
   std::vector<TableColumn> columns;
-  std::size_t status_column = 0;
-  for (const std::int32_t run : complete) {
-    const std::string table = run_group(task, run) + "/fit_metrics";
-    if (columns.empty()) {
-      columns = file.read_table_columns(table);
-      for (std::size_t c = 0; c < columns.size(); ++c) {
-        if (columns[c].name == "status") status_column = c;
+  // Columns by name: run, [configuration], sweep_point, the point's axes (the
+  // built-in ones, then a study's keys), status, the metrics.
+  std::size_t point_column = 1, status_column = 0;
+  std::optional<std::size_t> configuration_column;
+  for (const std::string& location : locations) {
+    for (const std::int32_t run : complete_runs(file, location, runs)) {
+      ++contents.complete_runs;
+      const std::string table = run_group(location, run) + "/fit_metrics";
+      if (columns.empty()) {
+        columns = file.read_table_columns(table);
+        for (std::size_t c = 0; c < columns.size(); ++c) {
+          if (columns[c].name == "status") status_column = c;
+          if (columns[c].name == "sweep_point") point_column = c;
+          if (columns[c].name == "configuration") configuration_column = c;
+        }
+        for (std::size_t c = point_column + 1; c < status_column; ++c) {
+          contents.axis_names.push_back(columns[c].name);
+        }
+        for (std::size_t c = status_column + 1; c < columns.size(); ++c) {
+          contents.metric_names.push_back(columns[c].name);
+        }
       }
-      for (std::size_t c = 2; c < status_column; ++c) {
-        contents.axis_names.push_back(columns[c].name);
+      for (const TableRow& row : file.read_table(table)) {
+        FitRow fit;
+        // A point of a study is its configuration's sweep point.
+        const auto configuration =
+            configuration_column ? static_cast<std::int64_t>(as_double(row[*configuration_column]))
+                                 : 0;
+        fit.point = (configuration << 32) + static_cast<std::int64_t>(as_double(row[point_column]));
+        for (std::size_t c = point_column + 1; c < status_column; ++c) {
+          fit.key.push_back(as_text(row[c]));
+        }
+        fit.status = fit_status_from_text(as_text(row[status_column]));
+        for (std::size_t c = status_column + 1; c < columns.size(); ++c) {
+          fit.values.push_back(as_double(row[c]));
+        }
+        contents.fits.push_back(std::move(fit));
       }
-      for (std::size_t c = status_column + 1; c < columns.size(); ++c) {
-        contents.metric_names.push_back(columns[c].name);
-      }
-    }
-    for (const TableRow& row : file.read_table(table)) {
-      FitRow fit;
-      fit.point = static_cast<std::int64_t>(as_double(row[1]));
-      for (std::size_t c = 2; c < status_column; ++c) fit.key.push_back(as_text(row[c]));
-      fit.status = fit_status_from_text(as_text(row[status_column]));
-      for (std::size_t c = status_column + 1; c < columns.size(); ++c) {
-        fit.values.push_back(as_double(row[c]));
-      }
-      contents.fits.push_back(std::move(fit));
     }
   }
   return contents;
@@ -297,9 +312,25 @@ void write_text(const std::filesystem::path& path, const ResultsContents& conten
       << "created:  " << header.created << " by ggk " << header.ggk_version << " (" << header.git
       << ")\n";
   if (!header.blas.empty()) out << "blas:     " << header.blas << "\n";
-  out << "runs:     " << contents.complete_runs << " of " << header.runs << " complete\n";
-  if (!contents.summary_written &&
-      static_cast<std::int64_t>(contents.complete_runs) < header.runs) {
+  const std::int64_t expected = header.runs * static_cast<std::int64_t>(contents.configurations);
+  if (!header.job_overrides.empty() || !header.job_sweeps.empty()) {
+    std::string words;
+    const auto add = [&](const std::string& lines, const char* option) {
+      std::istringstream in(lines);
+      for (std::string line; std::getline(in, line);) words += std::string(" ") + option + " " + line;
+    };
+    add(header.job_overrides, "--set");
+    add(header.job_sweeps, "--sweep");
+    out << "options: " << words << "\n";
+  }
+  if (contents.configurations > 1) {
+    out << "study:    " << contents.configurations << " run configurations x " << header.runs
+        << " runs\n";
+    out << "runs:     " << contents.complete_runs << " of " << expected << " complete\n";
+  } else {
+    out << "runs:     " << contents.complete_runs << " of " << header.runs << " complete\n";
+  }
+  if (!contents.summary_written && static_cast<std::int64_t>(contents.complete_runs) < expected) {
     out << "summary:  not written yet (the sweep is running, or was interrupted: "
            "ggk run --resume finishes it)\n";
   }

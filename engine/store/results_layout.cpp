@@ -55,6 +55,9 @@ void write_results_header(Hdf5File& file, const ResultsHeader& header) {
   file.write_string_attribute("/", "created", header.created);
   file.write_string_attribute("/", "task", header.task);
   file.write_int64_attribute("/", "runs", header.runs);
+  if (!header.job_sweeps.empty()) {
+    file.write_string_attribute("/", "job_sweeps", header.job_sweeps);
+  }
   if (!header.job_overrides.empty()) {
     file.write_string_attribute("/", "job_overrides", header.job_overrides);
   }
@@ -77,6 +80,7 @@ ResultsHeader read_results_header(const Hdf5File& file) {
   header.created = string_at(file, "created", true);
   header.blas = string_at(file, "blas", false);
   header.job_overrides = string_at(file, "job_overrides", false);
+  header.job_sweeps = string_at(file, "job_sweeps", false);
   header.job_resolved = string_at(file, "job_resolved", false);
   header.layout = int64_at(file, "layout", false, 1);
   header.runs_selected = root_attribute<std::optional<RunsSelected>>(

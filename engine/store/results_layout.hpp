@@ -16,6 +16,7 @@
 //   task           string  "maze", "arm", "khepera"
 //   runs           int64   the job's run count
 //   job_overrides  string  the --set arguments, one a line (only when given)
+//   job_sweeps     string  the --sweep arguments, one a line (only when given)
 //   job_resolved   string  every key with the value used, defaults filled in
 //                          (job/resolved_config.hpp's text; absent in older files)
 //   layout         int64   kLayoutVersion (absent in layout-1 files)
@@ -63,6 +64,7 @@ struct ResultsHeader {
   std::string task;
   std::int64_t runs = 0;
   std::string job_overrides;  // empty: no attribute (no --set)
+  std::string job_sweeps;     // empty: no attribute (no --sweep)
   std::string job_resolved;   // empty: no attribute (files of older ggk)
   std::int64_t layout = kLayoutVersion;
   std::optional<RunsSelected> runs_selected;  // none: the whole job's file

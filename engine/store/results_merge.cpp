@@ -84,6 +84,11 @@ std::string finish_command(const ResultsHeader& shard, const std::string& progra
     words.push_back("--set");
     words.push_back(text);
   }
+  std::istringstream sweeps(shard.job_sweeps);
+  for (std::string text; std::getline(sweeps, text);) {
+    words.push_back("--sweep");
+    words.push_back(text);
+  }
   for (const char* word : {"--resume", "-o"}) words.emplace_back(word);
   words.push_back(output.string());
   return shell_command(words);
@@ -118,6 +123,9 @@ void merge_results(const std::filesystem::path& output,
     std::optional<std::string> difference = job_difference(
         first.job, shard.header.job, shards.front().path.string(), shard.path.string());
     if (!difference && shard.header.task != first.task) difference = "its task differs";
+    if (!difference && shard.header.job_sweeps != first.job_sweeps) {
+      difference = "its --sweep options differ";
+    }
     if (!difference && shard.header.inputs != first.inputs) {
       difference = "its input files differ";
     }
@@ -128,19 +136,40 @@ void merge_results(const std::filesystem::path& output,
     }
   }
 
-  // Which shard holds each complete run (listed from the files: the cost follows
-  // what they hold, not the job's run count).
-  std::map<std::int32_t, std::size_t> owner;
-  for (std::size_t s = 0; s < shards.size(); ++s) {
-    for (const std::int32_t run : complete_runs(shards[s].file, task, runs)) {
-      const auto [held, added] = owner.emplace(run, s);
-      if (!added) {
-        throw UsageError("run " + std::to_string(run) + " is complete in both " +
-                         shards[held->second].path.string() + " and " + shards[s].path.string() +
-                         ": overlapping shards (give each run to one shard)");
+  // Where the runs live: the task, or a study's configuration groups, the same
+  // in every shard of one job.
+  const std::vector<std::string> locations = runs_locations(shards.front().file, task);
+  for (const Shard& shard : shards) {
+    if (runs_locations(shard.file, task) != locations) {
+      throw UsageError(shard.path.string() + " holds other run configurations than " +
+                       shards.front().path.string() + ": only shards of one job merge");
+    }
+  }
+  // Which shard holds each complete run of each location (listed from the
+  // files: the cost follows what they hold, not the job's run count).
+  std::vector<std::map<std::int32_t, std::size_t>> owners(locations.size());
+  for (std::size_t l = 0; l < locations.size(); ++l) {
+    for (std::size_t s = 0; s < shards.size(); ++s) {
+      for (const std::int32_t run : complete_runs(shards[s].file, locations[l], runs)) {
+        const auto [held, added] = owners[l].emplace(run, s);
+        if (!added) {
+          throw UsageError(
+              "run " + std::to_string(run) +
+              (locations[l] == task ? std::string() : " of " + locations[l]) +
+              " is complete in both " + shards[held->second].path.string() + " and " +
+              shards[s].path.string() + ": overlapping shards (give each run to one shard)");
+        }
       }
     }
   }
+  // The runs complete in every location (a study's shards hold the same runs of
+  // each configuration); a run missing anywhere is missing.
+  std::map<std::int32_t, std::size_t> owner = owners.front();
+  for (const auto& other : owners) {
+    std::erase_if(owner, [&](const auto& entry) { return other.count(entry.first) == 0; });
+  }
+  std::size_t merged_runs = 0;
+  for (const auto& other : owners) merged_runs += other.size();
   const Gaps missing = gaps(owner, runs);
   if (missing.count > 0 && !options.allow_partial) {
     throw UsageError(std::to_string(missing.count) + " of " + std::to_string(runs) +
@@ -165,8 +194,20 @@ void merge_results(const std::filesystem::path& output,
     header.runs_selected.reset();  // the merged file is the whole job's
     write_results_header(merged, header);
     merged.create_group("/" + task);
-    for (const auto& [run, s] : owner) {
-      merged.copy_from(shards[s].file, run_group(task, run), run_group(task, run));
+    for (std::size_t l = 0; l < locations.size(); ++l) {
+      if (locations[l] != task) {  // a configuration group's own attributes
+        const Hdf5File& source = shards.front().file;
+        const std::string group = "/" + locations[l];
+        merged.create_group(group);
+        merged.write_int64_attribute(group, "configuration",
+                                     source.read_int64_attribute(group, "configuration"));
+        merged.write_string_attribute(group, "study_values",
+                                      source.read_string_attribute(group, "study_values"));
+      }
+      for (const auto& [run, s] : owners[l]) {
+        merged.copy_from(shards[s].file, run_group(locations[l], run),
+                         run_group(locations[l], run));
+      }
     }
     write_summary(merged, task, runs);
     merged.flush();
@@ -175,7 +216,8 @@ void merge_results(const std::filesystem::path& output,
     throw;
   }
   std::filesystem::rename(temporary, output);
-  log << "ggk: merged " << owner.size() << " of " << runs << " runs from " << shards.size()
+  log << "ggk: merged " << merged_runs << " of "
+      << runs * static_cast<std::int64_t>(locations.size()) << " runs from " << shards.size()
       << " shards into " << output.string() << "\n";
   if (missing.count > 0) {
     log << "ggk: runs missing: " << missing.text << "; compute them with `"

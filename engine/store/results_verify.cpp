@@ -88,9 +88,12 @@ bool verify_results(const std::filesystem::path& path, std::ostream& out) {
   std::int64_t runs = -1, complete = 0;
   try {
     const ResultsHeader header = read_results_header(file);
-    runs = header.runs;
-    complete = static_cast<std::int64_t>(
-        complete_runs(file, header.task, static_cast<std::int32_t>(runs)).size());
+    const std::vector<std::string> locations = runs_locations(file, header.task);
+    for (const std::string& location : locations) {
+      complete += static_cast<std::int64_t>(
+          complete_runs(file, location, static_cast<std::int32_t>(header.runs)).size());
+    }
+    runs = header.runs * static_cast<std::int64_t>(locations.size());  // a study's: every configuration's
   } catch (const ResultsHeaderError& e) {
     if (walk.problems.empty()) throw UsageError(one_line(e.what()));
   } catch (const std::runtime_error& e) {

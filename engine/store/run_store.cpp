@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -100,15 +101,43 @@ void write_graph(Hdf5File& file, const std::string& group, const RunRecord& r) {
                     {r.node_states.data(), static_cast<std::size_t>(r.node_states.size())});
 }
 
-TableRow summary_row(std::int32_t run, const FitRecord& fit) {
-  TableRow row = {run,
-                  fit.point.index,
-                  std::string(kernel_type_name(fit.point.basis)),
-                  fit.point.kernels,
-                  fit.point.sigma,
-                  std::string(solver_name(fit.point.solver)),
-                  fit.point.lambda,
-                  fit.status};
+// A study value (canonical TOML text) as its column's type: integers int64,
+// floats float64, strings unquoted, booleans as "true" / "false".
+ColumnType study_column_type(const std::string& value) {
+  if (value.empty()) return ColumnType::kString;
+  if (value.front() == '"' || value == "true" || value == "false") return ColumnType::kString;
+  if (value.find_first_of(".eEn") != std::string::npos) return ColumnType::kFloat64;  // inf, nan
+  return ColumnType::kInt64;
+}
+
+TableValue study_cell(const std::string& value) {
+  switch (study_column_type(value)) {
+    case ColumnType::kFloat64:
+      return value == "inf" || value == "+inf" ? std::numeric_limits<double>::infinity()
+             : value == "-inf"                 ? -std::numeric_limits<double>::infinity()
+             : value.find("nan") != std::string::npos
+                 ? std::numeric_limits<double>::quiet_NaN()
+                 : std::strtod(value.c_str(), nullptr);
+    case ColumnType::kInt64:
+      return static_cast<std::int64_t>(std::strtoll(value.c_str(), nullptr, 10));
+    default:
+      return value.size() >= 2 && value.front() == '"' ? value.substr(1, value.size() - 2)
+                                                         : value;
+  }
+}
+
+bool in_configuration_group(const JobSpec& job) { return !job.configuration_group.empty(); }
+
+TableRow summary_row(const JobSpec& job, const RunRecord& record, const FitRecord& fit) {
+  TableRow row = {record.run};
+  if (in_configuration_group(job)) row.emplace_back(record.configuration);
+  for (TableValue value : TableRow{fit.point.index, std::string(kernel_type_name(fit.point.basis)),
+                                   fit.point.kernels, fit.point.sigma,
+                                   std::string(solver_name(fit.point.solver)), fit.point.lambda}) {
+    row.push_back(std::move(value));
+  }
+  for (const AxisAssignment& value : fit.point.study_values) row.push_back(study_cell(value.value));
+  row.emplace_back(fit.status);
   for (const auto& [name, value] : fit.metrics) row.emplace_back(value);
   row.emplace_back(fit.fit_seconds);
   return row;
@@ -252,9 +281,11 @@ std::string fit_group_name(const SweepPoint& point) {
   // which axes the job sweeps, so scripts and two jobs' files address it alike.
   char kernels[16];
   std::snprintf(kernels, sizeof kernels, "k_%04d", point.kernels);
+  // Fit-level study keys (study.hpp) follow, when the job has any.
   return std::string(kernel_type_name(point.basis)) + "/" + kernels + "_sigma" +
          format_number(point.sigma) + "_" + std::string(solver_name(point.solver)) + "_lambda" +
-         format_number(point.lambda);
+         format_number(point.lambda) +
+         (point.variant_label.empty() ? std::string() : "_" + point.variant_label);
 }
 
 std::string fit_group_name(const JobSpec& /*job*/, const SweepPoint& point) {
@@ -262,25 +293,43 @@ std::string fit_group_name(const JobSpec& /*job*/, const SweepPoint& point) {
 }
 
 std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names) {
-  std::vector<TableColumn> columns = {{"run", ColumnType::kInt32, 0},
-                                      {"sweep_point", ColumnType::kInt32, 0},
-                                      {"basis", ColumnType::kString, kVariableLength},
-                                      {"kernels", ColumnType::kInt32, 0},
-                                      {"sigma", ColumnType::kFloat64, 0},
-                                      {"solver", ColumnType::kString, kVariableLength},
-                                      {"lambda", ColumnType::kFloat64, 0},
-                                      {"status", ColumnType::kString, kVariableLength}};
+  return summary_columns(metric_names, false, {});
+}
+
+std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names,
+                                         bool configuration,
+                                         const std::vector<AxisAssignment>& study_values) {
+  std::vector<TableColumn> columns = {{"run", ColumnType::kInt32, 0}};
+  if (configuration) columns.push_back({"configuration", ColumnType::kInt32, 0});
+  for (TableColumn column : std::vector<TableColumn>{
+           {"sweep_point", ColumnType::kInt32, 0},
+           {"basis", ColumnType::kString, kVariableLength},
+           {"kernels", ColumnType::kInt32, 0},
+           {"sigma", ColumnType::kFloat64, 0},
+           {"solver", ColumnType::kString, kVariableLength},
+           {"lambda", ColumnType::kFloat64, 0}}) {
+    columns.push_back(std::move(column));
+  }
+  for (const AxisAssignment& value : study_values) {
+    columns.push_back({value.key, study_column_type(value.value), kVariableLength});
+  }
+  columns.push_back({"status", ColumnType::kString, kVariableLength});
   for (const std::string& name : metric_names) columns.push_back({name, ColumnType::kFloat64, 0});
   columns.push_back({"fit_seconds", ColumnType::kFloat64, 0});
   return columns;
+}
+
+std::string runs_location(const JobSpec& job) {
+  return job.configuration_group.empty() ? job.task : job.task + "/" + job.configuration_group;
 }
 
 void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
   // Two-step commit (see hdf5_file.hpp, "Crashes"): the run is written and
   // flushed under a staging path, then moved to its place and marked complete. A
   // kill can then damage at most the staging group, which a resume discards.
-  const std::string group = run_group(job.task, record.run);
-  const std::string staging = staging_group(job.task, record.run);
+  const std::string location = runs_location(job);
+  const std::string group = run_group(location, record.run);
+  const std::string staging = staging_group(location, record.run);
   if (!file.in_memory()) {
     require_room(file.path(), run_bytes_bound(job, record), "run " + std::to_string(record.run));
   }
@@ -292,11 +341,20 @@ void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
   std::vector<TableRow> rows;
   for (const FitRecord& fit : record.fits) {
     write_fit(file, staging + "/fits/" + fit_group_name(job, fit.point), fit, job);
-    rows.push_back(summary_row(record.run, fit));
+    rows.push_back(summary_row(job, record, fit));
   }
-  const auto columns = summary_columns(metric_names_of(record));
+  const std::vector<AxisAssignment> no_values;
+  const std::vector<AxisAssignment>& study_values =
+      record.fits.empty() ? no_values : record.fits.front().point.study_values;
+  const auto columns =
+      summary_columns(metric_names_of(record), in_configuration_group(job), study_values);
   file.create_table(staging + "/fit_metrics", columns);
   file.append_rows(staging + "/fit_metrics", rows);
+  if (!study_values.empty()) {
+    std::string axes;
+    for (const AxisAssignment& value : study_values) axes += (axes.empty() ? "" : ",") + value.key;
+    file.write_string_attribute(staging + "/fit_metrics", kStudyAxesAttribute, axes);
+  }
   file.flush();
   file.move(staging, group);
   file.write_int64_attribute(group, "complete", 1);  // last: the mark that the run is whole
@@ -314,12 +372,13 @@ std::vector<unsigned char> run_image(const JobSpec& job, const RunRecord& record
 void write_run_image(Hdf5File& file, const JobSpec& job, std::int32_t run,
                      std::span<const unsigned char> image) {
   const Hdf5File source = Hdf5File::open_image(image, "run_" + std::to_string(run));
-  if (!run_is_complete(source, job.task, run)) {
+  const std::string location = runs_location(job);
+  if (!run_is_complete(source, location, run)) {
     throw std::runtime_error("the image sent for run " + std::to_string(run) +
                              " does not hold that run complete");
   }
-  const std::string group = run_group(job.task, run);
-  const std::string staging = staging_group(job.task, run);
+  const std::string group = run_group(location, run);
+  const std::string staging = staging_group(location, run);
   if (!file.in_memory()) {
     require_room(file.path(), 2 * static_cast<std::uint64_t>(image.size()) + kCommitOverhead,
                  "run " + std::to_string(run));
@@ -380,11 +439,12 @@ std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job)
   // Whatever a killed writer left under the staging path may be damaged.
   drop_staging(file);
   std::vector<std::int32_t> complete;
-  for (const std::int32_t run : stored_runs(file, job.task, job.runs)) {
-    if (run_is_complete(file, job.task, run)) {
+  const std::string location = runs_location(job);
+  for (const std::int32_t run : stored_runs(file, location, job.runs)) {
+    if (run_is_complete(file, location, run)) {
       complete.push_back(run);
     } else {
-      file.remove(run_group(job.task, run));
+      file.remove(run_group(location, run));
     }
   }
   file.flush();
@@ -404,10 +464,18 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
   }
   std::vector<TableRow> rows;
   std::vector<TableColumn> columns;
-  for (const std::int32_t run : complete_runs(file, task, runs)) {
-    const std::string table = run_group(task, run) + "/fit_metrics";
-    if (columns.empty()) columns = file.read_table_columns(table);
-    for (TableRow& row : file.read_table(table)) rows.push_back(std::move(row));
+  std::string study_axes;
+  for (const std::string& location : runs_locations(file, task)) {
+    for (const std::int32_t run : complete_runs(file, location, runs)) {
+      const std::string table = run_group(location, run) + "/fit_metrics";
+      if (columns.empty()) {
+        columns = file.read_table_columns(table);
+        if (file.has_attribute(table, kStudyAxesAttribute)) {
+          study_axes = file.read_string_attribute(table, kStudyAxesAttribute);
+        }
+      }
+      for (TableRow& row : file.read_table(table)) rows.push_back(std::move(row));
+    }
   }
   if (!file.in_memory()) {
     std::uint64_t row_bytes = 0;
@@ -418,6 +486,7 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
   if (!columns.empty()) {
     file.create_table(staged, columns);
     file.append_rows(staged, rows);
+    if (!study_axes.empty()) file.write_string_attribute(staged, kStudyAxesAttribute, study_axes);
     file.flush();
   }
   if (file.exists(path)) file.move(path, retired);
@@ -430,6 +499,27 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
 
 std::int64_t write_summary(Hdf5File& file, const JobSpec& job) {
   return write_summary(file, job.task, job.runs);
+}
+
+bool is_configuration_group_name(std::string_view name) {
+  if (name.size() < 8 || name.substr(0, 7) != "config_") return false;
+  return std::all_of(name.begin() + 7, name.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+std::vector<std::string> runs_locations(const Hdf5File& file, const std::string& task) {
+  std::vector<std::string> configurations;
+  const std::string task_group = "/" + task;
+  if (file.exists(task_group)) {
+    for (const std::string& name : file.member_names(task_group)) {
+      if (is_configuration_group_name(name)) configurations.push_back(task + "/" + name);
+    }
+  }
+  if (configurations.empty()) return {task};
+  std::sort(configurations.begin(), configurations.end(),
+            [](const std::string& a, const std::string& b) {
+              return a.size() != b.size() ? a.size() < b.size() : a < b;  // config_1000 last
+            });
+  return configurations;
 }
 
 }  // namespace ggk::engine

@@ -9,6 +9,13 @@
 //   /<task>/run_NNN               attr complete = 1, written last
 //   /<task>/summary               rows of every complete run, in run order
 //
+// A study (engine/job/study.hpp) with run-level axes keeps each run
+// configuration's runs in a group of its own, /<task>/config_NNN/run_NNN
+// (attributes: configuration, study_values); its tables gain the column
+// `configuration` after `run`, and every study has one typed column per study
+// key after `lambda` (attribute study_axes of fit_metrics and summary: their
+// names, comma-separated). The summary lists configuration by configuration.
+//
 // All functions make HDF5 calls: call them on the StoreWriter's thread only.
 
 #include <cstdint>
@@ -35,8 +42,22 @@ bool is_scratch(std::string_view root_member);
 std::string fit_group_name(const SweepPoint& point);
 std::string fit_group_name(const JobSpec& job, const SweepPoint& point);  // the same name
 
-// The columns of fit_metrics and summary for a task whose fits report `metrics`.
+// The columns of fit_metrics and summary for a task whose fits report `metrics`;
+// of a study's: with the configuration column and the study keys' columns.
 std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names);
+std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names,
+                                         bool configuration,
+                                         const std::vector<AxisAssignment>& study_values);
+inline constexpr const char* kStudyAxesAttribute = "study_axes";
+
+// Where a job's runs live under the root, without the leading '/': its task
+// ("khepera"), or a study configuration's group ("khepera/config_003"). Every
+// function below that takes a `task` takes such a location.
+std::string runs_location(const JobSpec& job);
+// The run locations a file holds for `task`: its configuration groups, in
+// index order, or the task itself when it has none.
+std::vector<std::string> runs_locations(const Hdf5File& file, const std::string& task);
+bool is_configuration_group_name(std::string_view name);
 
 // Writes the run whole under its staging group, flushes, moves it into place,
 // marks it complete and flushes again (an incomplete leftover of the same run is

@@ -45,7 +45,7 @@ TEST(Study, APlainJobIsOneConfigurationWithoutAGroup) {
   const Study study = study_of(maze_job(""));
   EXPECT_FALSE(study.has_axes());
   ASSERT_EQ(study.configurations.size(), 1u);
-  EXPECT_EQ(study.configurations[0].group_name, "");
+  EXPECT_EQ(study.configurations[0].job.configuration_group, "");
   ASSERT_EQ(study.configurations[0].variants.size(), 1u);
   EXPECT_TRUE(study.configurations[0].variants[0].assignments.empty());
   EXPECT_EQ(expand_points(study.configurations[0]).size(), 2u);
@@ -63,7 +63,7 @@ TEST(Study, RunLevelAxesMakeConfigurationsInProductOrder) {
   for (std::size_t c = 0; c < 6; ++c) {
     const RunConfiguration& configuration = study.configurations[c];
     EXPECT_EQ(configuration.index, static_cast<std::int32_t>(c));
-    EXPECT_EQ(configuration.group_name, "config_00" + std::to_string(c));
+    EXPECT_EQ(configuration.job.configuration_group, "config_00" + std::to_string(c));
     ASSERT_EQ(configuration.assignments.size(), 2u);
     EXPECT_EQ(configuration.assignments[0].key, "maze.slip");
     EXPECT_EQ(configuration.assignments[0].value, slips[c] == 0.0 ? "0.0" : "0.1");
@@ -93,7 +93,7 @@ TEST(Study, FitLevelAxesAreVariantsOfOneConfiguration) {
   ASSERT_EQ(study.configurations.size(), 1u);
   EXPECT_EQ(study.axes[0].level, StageLevel::kFit);
   const RunConfiguration& configuration = study.configurations[0];
-  EXPECT_EQ(configuration.group_name, "");  // no run-level axis: runs where they always are
+  EXPECT_EQ(configuration.job.configuration_group, "");  // no run-level axis: runs where they always are
   ASSERT_EQ(configuration.variants.size(), 4u);
   EXPECT_EQ(configuration.variants[0].lspi.max_iterations, 5);
   EXPECT_EQ(configuration.variants[1].lspi.stopping, kernels::LspiStopping::weights_converged);
