@@ -14,7 +14,8 @@ std::vector<SweepPoint> expand_sweep(const JobSpec& job) {
         for (const kernels::LspiSolver solver : axes.solver) {
           for (const double lambda : axes.lambda) {
             const auto index = static_cast<std::int32_t>(points.size());
-            points.push_back({index, basis, kernel_count, sigma, solver, lambda, 0, job.lspi, {}, {}});
+            points.push_back(
+                {index, basis, kernel_count, sigma, solver, lambda, 0, job.lspi, {}, {}});
           }
         }
       }

@@ -35,8 +35,7 @@ RunRecord compute_unit(const Study& study, WorkUnit unit) {
   if (task == nullptr) {
     throw std::logic_error("job names task '" + configuration.job.task + "', not registered");
   }
-  RunRecord record =
-      task->compute_run(configuration.job, unit.run, expand_points(configuration));
+  RunRecord record = task->compute_run(configuration.job, unit.run, expand_points(configuration));
   record.configuration = unit.configuration;
   return record;
 }

@@ -21,8 +21,8 @@ JobWriter::JobWriter(const Study& study, const RunOptions& options, OpenedResult
                      std::int32_t runs_to_write, StopSignals::Mode mode)
     : study_(study),
       target_(std::move(opened.target)),
-      go_on_(go_on_text(study.job(), options, target_.output(),
-                        mode == StopSignals::Mode::kRecord)),
+      go_on_(
+          go_on_text(study.job(), options, target_.output(), mode == StopSignals::Mode::kRecord)),
       stop_signals_(mode, stop_report(target_, go_on_)),
       progress_(std::in_place, runs_to_write,
                 static_cast<std::int32_t>(expand_points(study.configurations.front()).size()),

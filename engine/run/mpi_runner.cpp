@@ -203,9 +203,8 @@ int work(const Study& study) {
     // Compute on oneTBB's threads; this (the MPI) thread says it is alive.
     const WorkUnit unit = decode(run);
     const JobSpec& job = study.configurations.at(unit.configuration).job;
-    std::future<RunRecord> computing = std::async(std::launch::async, [&study, unit] {
-      return compute_unit(study, unit);
-    });
+    std::future<RunRecord> computing =
+        std::async(std::launch::async, [&study, unit] { return compute_unit(study, unit); });
     auto last_heartbeat = Clock::now();
     while (computing.wait_for(kStopPoll) != std::future_status::ready) {
       if (const int signal = stop_signals.received()) report_stop_and_exit(signal, nullptr);
@@ -223,8 +222,7 @@ int work(const Study& study) {
       std::memcpy(message.data(), &header, sizeof header);
       std::memcpy(message.data() + sizeof header, image.data(), image.size());
       if (message.size() > static_cast<std::size_t>(INT32_MAX)) {
-        throw std::runtime_error(unit_words(study, unit) + " is " +
-                                 std::to_string(message.size()) +
+        throw std::runtime_error(unit_words(study, unit) + " is " + std::to_string(message.size()) +
                                  " bytes, over MPI's 2 GiB message limit");
       }
     } catch (const std::exception& e) {

@@ -117,8 +117,8 @@ void check_same_job(const Hdf5File& file, const Study& study, const fs::path& ou
                        "its complete runs)");
     }
     static const std::set<std::string> kNotResults = {"output.file", "output.compression"};
-    difference = recorded->difference(resolved_of(study), "the results file", "the job file",
-                                      kNotResults);
+    difference =
+        recorded->difference(resolved_of(study), "the results file", "the job file", kNotResults);
   } else {
     difference = job_difference(header.job, job.source_text);
   }
@@ -186,8 +186,7 @@ std::string configuration_words(const RunConfiguration& configuration) {
 }
 
 Hdf5File resume(const Study& study, const RunOptions& options, const fs::path& output,
-                std::vector<std::vector<std::int32_t>>& complete,
-                std::vector<std::string>& notes) {
+                std::vector<std::vector<std::int32_t>>& complete, std::vector<std::string>& notes) {
   Hdf5File file = open_for_resume(output, notes);
   check_same_job(file, study, output);
   for (const RunConfiguration& configuration : study.configurations) {

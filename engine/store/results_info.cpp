@@ -317,7 +317,8 @@ void write_text(const std::filesystem::path& path, const ResultsContents& conten
     std::string words;
     const auto add = [&](const std::string& lines, const char* option) {
       std::istringstream in(lines);
-      for (std::string line; std::getline(in, line);) words += std::string(" ") + option + " " + line;
+      for (std::string line; std::getline(in, line);)
+        words += std::string(" ") + option + " " + line;
     };
     add(header.job_overrides, "--set");
     add(header.job_sweeps, "--sweep");

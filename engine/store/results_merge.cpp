@@ -153,11 +153,11 @@ void merge_results(const std::filesystem::path& output,
       for (const std::int32_t run : complete_runs(shards[s].file, locations[l], runs)) {
         const auto [held, added] = owners[l].emplace(run, s);
         if (!added) {
-          throw UsageError(
-              "run " + std::to_string(run) +
-              (locations[l] == task ? std::string() : " of " + locations[l]) +
-              " is complete in both " + shards[held->second].path.string() + " and " +
-              shards[s].path.string() + ": overlapping shards (give each run to one shard)");
+          throw UsageError("run " + std::to_string(run) +
+                           (locations[l] == task ? std::string() : " of " + locations[l]) +
+                           " is complete in both " + shards[held->second].path.string() + " and " +
+                           shards[s].path.string() +
+                           ": overlapping shards (give each run to one shard)");
         }
       }
     }

@@ -93,7 +93,8 @@ bool verify_results(const std::filesystem::path& path, std::ostream& out) {
       complete += static_cast<std::int64_t>(
           complete_runs(file, location, static_cast<std::int32_t>(header.runs)).size());
     }
-    runs = header.runs * static_cast<std::int64_t>(locations.size());  // a study's: every configuration's
+    runs = header.runs *
+           static_cast<std::int64_t>(locations.size());  // a study's: every configuration's
   } catch (const ResultsHeaderError& e) {
     if (walk.problems.empty()) throw UsageError(one_line(e.what()));
   } catch (const std::runtime_error& e) {

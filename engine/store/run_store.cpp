@@ -113,27 +113,27 @@ ColumnType study_column_type(const std::string& value) {
 TableValue study_cell(const std::string& value) {
   switch (study_column_type(value)) {
     case ColumnType::kFloat64:
-      return value == "inf" || value == "+inf" ? std::numeric_limits<double>::infinity()
-             : value == "-inf"                 ? -std::numeric_limits<double>::infinity()
-             : value.find("nan") != std::string::npos
-                 ? std::numeric_limits<double>::quiet_NaN()
-                 : std::strtod(value.c_str(), nullptr);
+      return value == "inf" || value == "+inf"        ? std::numeric_limits<double>::infinity()
+             : value == "-inf"                        ? -std::numeric_limits<double>::infinity()
+             : value.find("nan") != std::string::npos ? std::numeric_limits<double>::quiet_NaN()
+                                                      : std::strtod(value.c_str(), nullptr);
     case ColumnType::kInt64:
       return static_cast<std::int64_t>(std::strtoll(value.c_str(), nullptr, 10));
     default:
-      return value.size() >= 2 && value.front() == '"' ? value.substr(1, value.size() - 2)
-                                                         : value;
+      return value.size() >= 2 && value.front() == '"' ? value.substr(1, value.size() - 2) : value;
   }
 }
 
-bool in_configuration_group(const JobSpec& job) { return !job.configuration_group.empty(); }
+bool in_configuration_group(const JobSpec& job) {
+  return !job.configuration_group.empty();
+}
 
 TableRow summary_row(const JobSpec& job, const RunRecord& record, const FitRecord& fit) {
   TableRow row = {record.run};
   if (in_configuration_group(job)) row.emplace_back(record.configuration);
-  for (TableValue value : TableRow{fit.point.index, std::string(kernel_type_name(fit.point.basis)),
-                                   fit.point.kernels, fit.point.sigma,
-                                   std::string(solver_name(fit.point.solver)), fit.point.lambda}) {
+  for (TableValue value :
+       TableRow{fit.point.index, std::string(kernel_type_name(fit.point.basis)), fit.point.kernels,
+                fit.point.sigma, std::string(solver_name(fit.point.solver)), fit.point.lambda}) {
     row.push_back(std::move(value));
   }
   for (const AxisAssignment& value : fit.point.study_values) row.push_back(study_cell(value.value));
@@ -301,13 +301,13 @@ std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_
                                          const std::vector<AxisAssignment>& study_values) {
   std::vector<TableColumn> columns = {{"run", ColumnType::kInt32, 0}};
   if (configuration) columns.push_back({"configuration", ColumnType::kInt32, 0});
-  for (TableColumn column : std::vector<TableColumn>{
-           {"sweep_point", ColumnType::kInt32, 0},
-           {"basis", ColumnType::kString, kVariableLength},
-           {"kernels", ColumnType::kInt32, 0},
-           {"sigma", ColumnType::kFloat64, 0},
-           {"solver", ColumnType::kString, kVariableLength},
-           {"lambda", ColumnType::kFloat64, 0}}) {
+  for (TableColumn column :
+       std::vector<TableColumn>{{"sweep_point", ColumnType::kInt32, 0},
+                                {"basis", ColumnType::kString, kVariableLength},
+                                {"kernels", ColumnType::kInt32, 0},
+                                {"sigma", ColumnType::kFloat64, 0},
+                                {"solver", ColumnType::kString, kVariableLength},
+                                {"lambda", ColumnType::kFloat64, 0}}) {
     columns.push_back(std::move(column));
   }
   for (const AxisAssignment& value : study_values) {

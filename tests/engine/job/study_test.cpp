@@ -93,7 +93,8 @@ TEST(Study, FitLevelAxesAreVariantsOfOneConfiguration) {
   ASSERT_EQ(study.configurations.size(), 1u);
   EXPECT_EQ(study.axes[0].level, StageLevel::kFit);
   const RunConfiguration& configuration = study.configurations[0];
-  EXPECT_EQ(configuration.job.configuration_group, "");  // no run-level axis: runs where they always are
+  EXPECT_EQ(configuration.job.configuration_group,
+            "");  // no run-level axis: runs where they always are
   ASSERT_EQ(configuration.variants.size(), 4u);
   EXPECT_EQ(configuration.variants[0].lspi.max_iterations, 5);
   EXPECT_EQ(configuration.variants[1].lspi.stopping, kernels::LspiStopping::weights_converged);
