@@ -88,6 +88,24 @@ int validate_command(const std::string& job_path, const std::string& output,
   return 0;
 }
 
+// A run with --set or --sweep computes something other than its job file: its
+// results never take the file's output name (where the plain job's results
+// live) unless an override names the output. Refused (exit 2) with how to name it.
+void require_own_output(const std::vector<std::string>& overrides,
+                        const std::vector<std::string>& sweeps, const std::string& output) {
+  if (!output.empty() || (overrides.empty() && sweeps.empty())) return;
+  for (const std::string& text : overrides) {
+    std::string key = text.substr(0, text.find('='));
+    key.erase(0, key.find_first_not_of(" \t"));
+    key.erase(key.find_last_not_of(" \t") + 1);
+    if (key == "output" || key == "output.file") return;
+  }
+  throw engine::UsageError(
+      std::string(overrides.empty() ? "--sweep" : "--set") +
+      " makes another job than the job file, whose [output] file holds (or will hold) the plain "
+      "job's results: name this one's results file with -o FILE.h5 (or --set output.file=...)");
+}
+
 // "A:B" -> runs A..B-1; the range is checked against the job when it runs.
 engine::RunRange parse_run_range(const std::string& text) {
   const std::size_t colon = text.find(':');
@@ -288,6 +306,7 @@ int main(int argc, char** argv) {
       if (options.resume && options.overwrite) {
         throw engine::UsageError("--resume and --overwrite exclude each other");
       }
+      require_own_output(overrides, sweeps, output);
       options.output = output;
       options.invocation = invocation;
       if (!runs_text.empty()) options.runs = parse_run_range(runs_text);
