@@ -188,20 +188,20 @@ ResultsContents read_contents(const Hdf5File& file) {
   if (locations.front() != task) contents.configurations = locations.size();
   contents.summary_written = file.exists("/" + task + "/summary");
   std::vector<TableColumn> columns;
-  // Columns by name: run, [configuration], sweep_point, the point's axes (the
-  // built-in ones, then a study's keys), status, the metrics.
+  // Columns by name: run, sweep_point, the point's axes (the built-in ones,
+  // then a study's keys), status, the metrics. A point of a study is its
+  // configuration's sweep point.
   std::size_t point_column = 1, status_column = 0;
-  std::optional<std::size_t> configuration_column;
-  for (const std::string& location : locations) {
-    for (const std::int32_t run : complete_runs(file, location, runs)) {
+  for (std::size_t l = 0; l < locations.size(); ++l) {
+    const auto configuration = static_cast<std::int64_t>(l);
+    for (const std::int32_t run : complete_runs(file, locations[l], runs)) {
       ++contents.complete_runs;
-      const std::string table = run_group(location, run) + "/fit_metrics";
+      const std::string table = run_group(locations[l], run) + "/fit_metrics";
       if (columns.empty()) {
         columns = file.read_table_columns(table);
         for (std::size_t c = 0; c < columns.size(); ++c) {
           if (columns[c].name == "status") status_column = c;
           if (columns[c].name == "sweep_point") point_column = c;
-          if (columns[c].name == "configuration") configuration_column = c;
         }
         for (std::size_t c = point_column + 1; c < status_column; ++c) {
           contents.axis_names.push_back(columns[c].name);
@@ -212,10 +212,6 @@ ResultsContents read_contents(const Hdf5File& file) {
       }
       for (const TableRow& row : file.read_table(table)) {
         FitRow fit;
-        // A point of a study is its configuration's sweep point.
-        const auto configuration =
-            configuration_column ? static_cast<std::int64_t>(as_double(row[*configuration_column]))
-                                 : 0;
         fit.point = (configuration << 32) + static_cast<std::int64_t>(as_double(row[point_column]));
         for (std::size_t c = point_column + 1; c < status_column; ++c) {
           fit.key.push_back(as_text(row[c]));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <iterator>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -124,13 +125,8 @@ TableValue study_cell(const std::string& value) {
   }
 }
 
-bool in_configuration_group(const JobSpec& job) {
-  return !job.configuration_group.empty();
-}
-
-TableRow summary_row(const JobSpec& job, const RunRecord& record, const FitRecord& fit) {
+TableRow summary_row(const RunRecord& record, const FitRecord& fit) {
   TableRow row = {record.run};
-  if (in_configuration_group(job)) row.emplace_back(record.configuration);
   for (TableValue value :
        TableRow{fit.point.index, std::string(kernel_type_name(fit.point.basis)), fit.point.kernels,
                 fit.point.sigma, std::string(solver_name(fit.point.solver)), fit.point.lambda}) {
@@ -341,13 +337,12 @@ void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
   std::vector<TableRow> rows;
   for (const FitRecord& fit : record.fits) {
     write_fit(file, staging + "/fits/" + fit_group_name(job, fit.point), fit, job);
-    rows.push_back(summary_row(job, record, fit));
+    rows.push_back(summary_row(record, fit));
   }
   const std::vector<AxisAssignment> no_values;
   const std::vector<AxisAssignment>& study_values =
       record.fits.empty() ? no_values : record.fits.front().point.study_values;
-  const auto columns =
-      summary_columns(metric_names_of(record), in_configuration_group(job), study_values);
+  const auto columns = summary_columns(metric_names_of(record), false, study_values);
   file.create_table(staging + "/fit_metrics", columns);
   file.append_rows(staging + "/fit_metrics", rows);
   if (!study_values.empty()) {
@@ -465,16 +460,37 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
   std::vector<TableRow> rows;
   std::vector<TableColumn> columns;
   std::string study_axes;
-  for (const std::string& location : runs_locations(file, task)) {
+  // A study's configurations: the column `configuration` after `run`, from
+  // each group's attribute (a run's own tables do not hold it: a grown study
+  // renumbers its configurations, never its runs' data).
+  const std::vector<std::string> locations = runs_locations(file, task);
+  const bool configurations = locations.front() != task;
+  for (const std::string& location : locations) {
+    const std::int32_t configuration =
+        configurations ? configuration_of(file, location) : std::int32_t{0};
     for (const std::int32_t run : complete_runs(file, location, runs)) {
       const std::string table = run_group(location, run) + "/fit_metrics";
       if (columns.empty()) {
         columns = file.read_table_columns(table);
+        if (configurations) {
+          columns.insert(columns.begin() + 1, TableColumn{"configuration", ColumnType::kInt32, 0});
+        }
         if (file.has_attribute(table, kStudyAxesAttribute)) {
           study_axes = file.read_string_attribute(table, kStudyAxesAttribute);
         }
       }
-      for (TableRow& row : file.read_table(table)) rows.push_back(std::move(row));
+      for (TableRow& row : file.read_table(table)) {
+        if (!configurations) {
+          rows.push_back(std::move(row));
+          continue;
+        }
+        TableRow with_configuration;
+        with_configuration.reserve(row.size() + 1);
+        with_configuration.push_back(std::move(row.front()));
+        with_configuration.emplace_back(std::in_place_type<std::int32_t>, configuration);
+        std::move(row.begin() + 1, row.end(), std::back_inserter(with_configuration));
+        rows.push_back(std::move(with_configuration));
+      }
     }
   }
   if (!file.in_memory()) {
@@ -499,6 +515,17 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
 
 std::int64_t write_summary(Hdf5File& file, const JobSpec& job) {
   return write_summary(file, job.task, job.runs);
+}
+
+std::int32_t configuration_of(const Hdf5File& file, const std::string& location) {
+  const std::string group = "/" + location;
+  const std::int64_t index = file.has_attribute(group, "configuration")
+                                 ? file.read_int64_attribute(group, "configuration")
+                                 : -1;
+  if (index < 0 || index > INT32_MAX) {
+    throw std::runtime_error(group + " has no valid 'configuration' attribute");
+  }
+  return static_cast<std::int32_t>(index);
 }
 
 bool is_configuration_group_name(std::string_view name) {

@@ -11,10 +11,11 @@
 //
 // A study (engine/job/study.hpp) with run-level axes keeps each run
 // configuration's runs in a group of its own, /<task>/config_NNN/run_NNN
-// (attributes: configuration, study_values); its tables gain the column
-// `configuration` after `run`, and every study has one typed column per study
-// key after `lambda` (attribute study_axes of fit_metrics and summary: their
-// names, comma-separated). The summary lists configuration by configuration.
+// (attributes: configuration, study_values); every study's tables have one
+// typed column per study key after `lambda` (attribute study_axes of
+// fit_metrics and summary: their names, comma-separated). The summary lists
+// configuration by configuration, with the column `configuration` after `run`
+// (from the group's attribute: a run's own tables never hold its index).
 //
 // All functions make HDF5 calls: call them on the StoreWriter's thread only.
 
@@ -58,6 +59,9 @@ std::string runs_location(const JobSpec& job);
 // index order, or the task itself when it has none.
 std::vector<std::string> runs_locations(const Hdf5File& file, const std::string& task);
 bool is_configuration_group_name(std::string_view name);
+// The index a configuration group records (attribute `configuration`); throws
+// std::runtime_error when it has none.
+std::int32_t configuration_of(const Hdf5File& file, const std::string& location);
 
 // Writes the run whole under its staging group, flushes, moves it into place,
 // marks it complete and flushes again (an incomplete leftover of the same run is
