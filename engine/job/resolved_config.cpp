@@ -3,6 +3,8 @@
 #include <charconv>
 #include <cstdio>
 
+#include <toml++/toml.h>
+
 namespace ggk::engine {
 
 std::string canonical_integer(std::int64_t value) {
@@ -164,6 +166,32 @@ std::optional<std::string> ResolvedConfig::difference(const ResolvedConfig& othe
 
 bool ResolvedConfig::operator==(const ResolvedConfig& other) const {
   return !difference(other, "", "").has_value();
+}
+
+std::optional<std::vector<std::string>> canonical_elements(std::string_view text) {
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + std::string(text));
+  } catch (const toml::parse_error&) {
+    return std::nullopt;
+  }
+  const toml::array* array = parsed.get_as<toml::array>("v");
+  if (array == nullptr) return std::nullopt;
+  std::vector<std::string> elements;
+  for (const toml::node& node : *array) {
+    if (const auto* integer = node.as_integer()) {
+      elements.push_back(canonical_integer(integer->get()));
+    } else if (const auto* number = node.as_floating_point()) {
+      elements.push_back(canonical_number(number->get()));
+    } else if (const auto* string = node.as_string()) {
+      elements.push_back(canonical_string(string->get()));
+    } else if (const auto* boolean = node.as_boolean()) {
+      elements.push_back(canonical_boolean(boolean->get()));
+    } else {
+      return std::nullopt;
+    }
+  }
+  return elements;
 }
 
 }  // namespace ggk::engine

@@ -17,6 +17,7 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace ggk::engine {
 
@@ -67,5 +68,10 @@ std::string canonical_integer(std::int64_t value);
 std::string canonical_number(double value);
 std::string canonical_string(std::string_view value);
 std::string canonical_boolean(bool value);
+
+// The canonical texts of the elements of an array's canonical text
+// ("[15.0, 30.0]" -> {"15.0", "30.0"}); nullopt when `text` is not an array of
+// scalars.
+std::optional<std::vector<std::string>> canonical_elements(std::string_view text);
 
 }  // namespace ggk::engine

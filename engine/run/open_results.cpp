@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <system_error>
@@ -86,9 +87,54 @@ std::optional<RunsSelected> selection(const JobSpec& job, const std::optional<Ru
   return RunsSelected{runs->first, runs->last};
 }
 
-// The file is the same job's (parsed job, input files), or a UsageError says
-// what differs.
-void check_same_job(const Hdf5File& file, const Study& study, const fs::path& output) {
+// Whether the job grows the file's (more runs, more values of a run-level
+// axis: study.hpp), given that nothing else differs; a UsageError says what a
+// job with fewer would drop.
+bool grows(const ResolvedConfig& recorded, const Study& study, const fs::path& output) {
+  const ResolvedConfig wanted = resolved_of(study);
+  bool grown = false;
+  const auto number = [](const std::optional<std::string>& text) {
+    return text ? std::strtoll(text->c_str(), nullptr, 10) : 0;
+  };
+  const long long had = number(recorded.value("runs")), has = number(wanted.value("runs"));
+  if (has < had) {
+    throw UsageError("cannot resume " + output.string() + ": it holds runs 0.." +
+                     std::to_string(had - 1) + " and the job has " + std::to_string(has) +
+                     ": resuming would drop runs " + std::to_string(has) + ".." +
+                     std::to_string(had - 1) + "; resume with runs = " + std::to_string(had) +
+                     " (--set runs=" + std::to_string(had) + "), or write to another -o");
+  }
+  grown = has > had;
+  for (const StudyAxis& axis : study.axes) {
+    if (axis.level != StageLevel::kRun) continue;
+    for (const std::string& key : axis.keys) {
+      const auto before = canonical_elements(recorded.value(key).value_or(""));
+      const auto after = canonical_elements(wanted.value(key).value_or(""));
+      if (!before || !after) {
+        throw UsageError("cannot resume " + output.string() + ": the study key " + key +
+                         " is not an axis of the job in its results file");
+      }
+      std::string dropped;
+      for (const std::string& value : *before) {
+        if (std::find(after->begin(), after->end(), value) == after->end()) {
+          dropped += (dropped.empty() ? "" : ", ") + value;
+        }
+      }
+      if (!dropped.empty()) {
+        throw UsageError("cannot resume " + output.string() + ": the job drops " + key + " = " +
+                         dropped + ", whose runs the results file holds (a study resumes "
+                         "with the values it has, and may add more); add them back, or write "
+                         "to another -o");
+      }
+      grown = grown || after->size() > before->size();
+    }
+  }
+  return grown;
+}
+
+// The file is the same job's (parsed job, input files), or one it grows into
+// (returns true), or a UsageError says what differs.
+bool check_same_job(const Hdf5File& file, const Study& study, const fs::path& output) {
   const JobSpec& job = study.job();
   ResultsHeader header;
   try {
@@ -108,6 +154,7 @@ void check_same_job(const Hdf5File& file, const Study& study, const fs::path& ou
   // and 30.0, a key at its default and the key left out read alike); as TOML
   // where an older ggk wrote it. Where the results go is no part of them.
   std::optional<std::string> difference;
+  bool grown = false;
   if (!header.job_resolved.empty()) {
     const std::optional<ResolvedConfig> recorded = ResolvedConfig::from_text(header.job_resolved);
     if (!recorded) {
@@ -116,9 +163,14 @@ void check_same_job(const Hdf5File& file, const Study& study, const fs::path& ou
                        "choose another output with -o, or --overwrite to replace it (deleting "
                        "its complete runs)");
     }
-    static const std::set<std::string> kNotResults = {"output.file", "output.compression"};
+    // What may grow (runs, the values of run-level axes) is compared by grows().
+    std::set<std::string> ignored = {"output.file", "output.compression", "runs"};
+    for (const StudyAxis& axis : study.axes) {
+      if (axis.level == StageLevel::kRun) ignored.insert(axis.keys.begin(), axis.keys.end());
+    }
     difference =
-        recorded->difference(resolved_of(study), "the results file", "the job file", kNotResults);
+        recorded->difference(resolved_of(study), "the results file", "the job file", ignored);
+    if (!difference) grown = grows(*recorded, study, output);
   } else {
     difference = job_difference(header.job, job.source_text);
   }
@@ -139,6 +191,7 @@ void check_same_job(const Hdf5File& file, const Study& study, const fs::path& ou
                        "holds)");
     }
   }
+  return grown;
 }
 
 // HDF5's flush writes the superblock, with the file's new end, before it
@@ -185,10 +238,99 @@ std::string configuration_words(const RunConfiguration& configuration) {
   return " of configuration " + std::to_string(configuration.index) + " (" + values + ")";
 }
 
+void write_configuration_group(Hdf5File& file, const RunConfiguration& configuration) {
+  const std::string group = "/" + runs_location(configuration.job);
+  if (!file.exists(group)) file.create_group(group);
+  for (const char* name : {"configuration", "study_values"}) {
+    if (file.has_attribute(group, name)) file.remove_attribute(group, name);
+  }
+  file.write_int64_attribute(group, "configuration", configuration.index);
+  file.write_string_attribute(group, "study_values", study_values_text(configuration.assignments));
+}
+
+// Gives every configuration group of the file the name and index of the
+// study's configuration with its values (attribute study_values, which names
+// a group's configuration whatever its name): a grown study renumbers them
+// (its product order changes). In two steps, each group first out of the way
+// as "moving_config_NNN" (its new name), so that no move meets a name in use;
+// a kill in between leaves groups that the next resume finds by their values
+// the same way. Creates the groups of configurations the file lacks.
+void align_configurations(Hdf5File& file, const Study& study, const fs::path& output) {
+  if (study.configurations.front().job.configuration_group.empty()) return;
+  const std::string task_group = "/" + study.job().task;
+  std::map<std::string, std::size_t> by_values;
+  for (std::size_t c = 0; c < study.configurations.size(); ++c) {
+    by_values.emplace(study_values_text(study.configurations[c].assignments), c);
+  }
+  constexpr std::string_view kMoving = "moving_";
+  std::vector<std::pair<std::string, std::size_t>> found;  // group name, configuration
+  std::vector<bool> has_group(study.configurations.size(), false);
+  for (const std::string& name : file.member_names(task_group)) {
+    const bool moving = name.starts_with(kMoving) &&
+                        is_configuration_group_name(std::string_view(name).substr(kMoving.size()));
+    if (!moving && !is_configuration_group_name(name)) continue;
+    const std::string group = task_group + "/" + name;
+    const std::string values = file.has_attribute(group, "study_values")
+                                   ? file.read_string_attribute(group, "study_values")
+                                   : std::string();
+    const auto configuration = by_values.find(values);
+    if (configuration == by_values.end()) {
+      throw UsageError("cannot resume " + output.string() + ": its group " + group +
+                       " holds the run configuration " +
+                       (values.empty() ? std::string("(no study_values)") : "{" + values + "}") +
+                       ", which this job does not have; resume with the job that has it, or "
+                       "write to another -o");
+    }
+    if (has_group[configuration->second]) {
+      throw UsageError("cannot resume " + output.string() + ": two of its groups hold the run "
+                       "configuration {" + values + "} (damaged); write to another -o");
+    }
+    has_group[configuration->second] = true;
+    found.emplace_back(name, configuration->second);
+  }
+  for (auto& [name, c] : found) {  // out of the way
+    const std::string& target = study.configurations[c].job.configuration_group;
+    if (name == target || name == std::string(kMoving) + target) continue;
+    file.move(task_group + "/" + name, task_group + "/" + std::string(kMoving) + target);
+    name = std::string(kMoving) + target;
+  }
+  for (auto& [name, c] : found) {  // into place
+    const RunConfiguration& configuration = study.configurations[c];
+    if (name != configuration.job.configuration_group) {
+      file.move(task_group + "/" + name, "/" + runs_location(configuration.job));
+    }
+    const std::string group = "/" + runs_location(configuration.job);
+    if (!file.has_attribute(group, "configuration") ||
+        file.read_int64_attribute(group, "configuration") != configuration.index) {
+      write_configuration_group(file, configuration);
+    }
+  }
+  for (std::size_t c = 0; c < study.configurations.size(); ++c) {
+    if (!has_group[c]) write_configuration_group(file, study.configurations[c]);
+  }
+  file.flush();
+}
+
+ResultsHeader new_header(const Study& study, const RunOptions& options);
+
 Hdf5File resume(const Study& study, const RunOptions& options, const fs::path& output,
-                std::vector<std::vector<std::int32_t>>& complete, std::vector<std::string>& notes) {
+                std::vector<std::vector<std::int32_t>>& complete,
+                std::vector<std::string>& notes) {
   Hdf5File file = open_for_resume(output, notes);
-  check_same_job(file, study, output);
+  const bool grown = check_same_job(file, study, output);
+  align_configurations(file, study, output);
+  if (grown) {
+    // The file now holds the larger job's runs (some not computed yet).
+    rewrite_job_attributes(file, new_header(study, options));
+    file.flush();
+    const std::size_t configurations = study.configurations.size();
+    notes.push_back("growing " + output.string() + " to the job's " +
+                    std::to_string(study.job().runs) + " runs" +
+                    (configurations > 1
+                         ? " x " + std::to_string(configurations) + " run configurations"
+                         : std::string()) +
+                    ": its complete runs are kept");
+  }
   for (const RunConfiguration& configuration : study.configurations) {
     const JobSpec& job = configuration.job;
     const std::string location = runs_location(job);
@@ -241,12 +383,9 @@ Hdf5File create_new(const Study& study, const RunOptions& options, const fs::pat
   write_results_header(file, new_header(study, options));
   file.create_group("/" + study.job().task);
   for (const RunConfiguration& configuration : study.configurations) {
-    if (configuration.job.configuration_group.empty()) continue;
-    const std::string group = "/" + runs_location(configuration.job);
-    file.create_group(group);
-    file.write_int64_attribute(group, "configuration", configuration.index);
-    file.write_string_attribute(group, "study_values",
-                                study_values_text(configuration.assignments));
+    if (!configuration.job.configuration_group.empty()) {
+      write_configuration_group(file, configuration);
+    }
   }
   file.flush();
   return file;

@@ -68,6 +68,25 @@ void write_results_header(Hdf5File& file, const ResultsHeader& header) {
   write_runs_selected(file, header.runs_selected);
 }
 
+void rewrite_job_attributes(Hdf5File& file, const ResultsHeader& header) {
+  for (const char* name :
+       {"job", "job_file", "runs", "job_sweeps", "job_overrides", "job_resolved"}) {
+    if (file.has_attribute("/", name)) file.remove_attribute("/", name);
+  }
+  file.write_string_attribute("/", "job", header.job);
+  file.write_string_attribute("/", "job_file", header.job_file);
+  file.write_int64_attribute("/", "runs", header.runs);
+  if (!header.job_sweeps.empty()) {
+    file.write_string_attribute("/", "job_sweeps", header.job_sweeps);
+  }
+  if (!header.job_overrides.empty()) {
+    file.write_string_attribute("/", "job_overrides", header.job_overrides);
+  }
+  if (!header.job_resolved.empty()) {
+    file.write_string_attribute("/", "job_resolved", header.job_resolved);
+  }
+}
+
 ResultsHeader read_results_header(const Hdf5File& file) {
   ResultsHeader header;
   // job and task first: a file without them is not a results file at all.

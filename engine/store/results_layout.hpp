@@ -82,6 +82,10 @@ class ResultsHeaderError : public std::runtime_error {
 // yet (a new file, a merge's output).
 void write_results_header(Hdf5File& file, const ResultsHeader& header);
 
+// Replaces the attributes that say which job the file holds (job, job_file,
+// runs, job_sweeps, job_overrides, job_resolved) by `header`'s: a grown study.
+void rewrite_job_attributes(Hdf5File& file, const ResultsHeader& header);
+
 // Reads the root attributes. job, job_file, ggk_version, git, created, task and runs
 // are required; the others may be absent (layout then reads as 1). Throws
 // ResultsHeaderError when a required one is missing, or when one does not read as

@@ -13,6 +13,9 @@
 #                  the whole study's results; respelled values (0 for 0.0)
 #                  resume; other values are refused naming the key; --set or
 #                  --sweep without -o is refused (the plain job's output)
+#   grow           --resume with more runs or more values of a run-level axis
+#                  computes only what is new and equals the larger study from
+#                  scratch; fewer are refused, naming what would be dropped
 #   distributed    mpirun -np 3, and shards merged by --shards-of, equal one
 #                  process (ggk diff)
 # Environment: GGK (the binary), GGK_SOURCE_DIR; MPIEXEC and
@@ -170,6 +173,39 @@ resume)
   [ "$s" = 0 ] || fail "0 for 0.0 refused: $(cat "$scratch/err")"
   s=$(status_of "$GGK" run "$job" -q --sweep maze.slip=0.0,0.3 -o "$scratch/whole.h5" --resume)
   [ "$s" = 2 ] && grep -q "maze.slip" "$scratch/err" || fail "other values: status $s $(cat "$scratch/err")"
+  ;;
+grow)
+  # More runs and more values of a run-level axis (inserted: the configurations
+  # renumber) compute only what is new, and equal the larger study from scratch.
+  "$GGK" run "$job" -q --set runs=2 --sweep maze.slip=0.0,0.2 -o "$scratch/grow.h5" 2>/dev/null
+  "$GGK" run "$job" --set runs=3 --sweep maze.slip=0.0,0.1,0.2 -o "$scratch/grow.h5" --resume \
+    2>"$scratch/err" || fail "grow: $(cat "$scratch/err")"
+  grep -q "5 runs computed, 4 already complete" "$scratch/err" || fail "grow computed: $(cat "$scratch/err")"
+  "$GGK" run "$job" -q --set runs=3 --sweep maze.slip=0.0,0.1,0.2 -o "$scratch/whole.h5" 2>/dev/null
+  "$GGK" diff "$scratch/whole.h5" "$scratch/grow.h5" || fail "the grown study differs from the whole"
+  # A plain job grows by runs.
+  "$GGK" run "$job" -q --set runs=1 -o "$scratch/plain.h5" 2>/dev/null
+  "$GGK" run "$job" -q --set runs=3 -o "$scratch/plain.h5" --resume 2>/dev/null
+  "$GGK" run "$job" -q --set runs=3 -o "$scratch/plain3.h5" 2>/dev/null
+  "$GGK" diff "$scratch/plain3.h5" "$scratch/plain.h5" >/dev/null || fail "the grown job differs"
+  # Fewer runs or values would drop results: refused, naming them.
+  s=$(status_of "$GGK" run "$job" -q --set runs=3 --sweep maze.slip=0.0,0.2 -o "$scratch/grow.h5" --resume)
+  [ "$s" = 2 ] && grep -q "drops maze.slip = 0.1" "$scratch/err" || fail "dropped value: $s $(cat "$scratch/err")"
+  s=$(status_of "$GGK" run "$job" -q --set runs=2 --sweep maze.slip=0.0,0.1,0.2 -o "$scratch/grow.h5" --resume)
+  [ "$s" = 2 ] && grep -q "would drop runs 2..2" "$scratch/err" || fail "dropped runs: $s $(cat "$scratch/err")"
+  "$GGK" diff "$scratch/whole.h5" "$scratch/grow.h5" >/dev/null || fail "a refusal changed the file"
+  # A resume killed while it renumbered (a group still under its moving_ name)
+  # is finished by the next resume.
+  "$GGK" run "$job" -q --set runs=2 --sweep maze.slip=0.0,0.2 -o "$scratch/cut.h5" 2>/dev/null
+  /usr/bin/python3 - "$scratch/cut.h5" <<'PY'
+import sys
+import h5py
+with h5py.File(sys.argv[1], "r+") as f:
+    f.move("maze/config_001", "maze/moving_config_002")
+PY
+  "$GGK" run "$job" -q --set runs=3 --sweep maze.slip=0.0,0.1,0.2 -o "$scratch/cut.h5" --resume \
+    2>"$scratch/err" || fail "after a cut renumbering: $(cat "$scratch/err")"
+  "$GGK" diff "$scratch/whole.h5" "$scratch/cut.h5" >/dev/null || fail "the cut renumbering differs"
   ;;
 distributed)
   read -r -a launcher <<<"$MPIEXEC"
