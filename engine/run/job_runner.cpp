@@ -43,8 +43,9 @@ RunRecord compute_unit(const Study& study, WorkUnit unit) {
 void check_study_memory(const Study& study, const RunOptions& options) {
   const JobSpec* largest = &study.job();
   double largest_bytes = 0.0;
+  const auto variants = static_cast<std::int64_t>(study.configurations.front().variants.size());
   for (const RunConfiguration& configuration : study.configurations) {
-    const double bytes = estimate_job_memory(configuration.job, 1, 1).per_run;
+    const double bytes = estimate_job_memory(configuration.job, 1, 1, variants).per_run;
     if (bytes > largest_bytes) {
       largest_bytes = bytes;
       largest = &configuration.job;
@@ -59,10 +60,10 @@ void check_study_memory(const Study& study, const RunOptions& options) {
     JobSpec widened = *largest;
     widened.runs = static_cast<std::int32_t>(std::min<std::int64_t>(units, INT32_MAX));
     counted.runs.reset();
-    check_memory(widened, counted);
+    check_memory(widened, counted, variants);
     return;
   }
-  check_memory(*largest, counted);
+  check_memory(*largest, counted, variants);
 }
 
 std::int64_t failed_fits_of(const RunRecord& record) {

@@ -141,10 +141,12 @@ AvailableMemory available_memory() {
   return available;
 }
 
-JobMemoryEstimate estimate_job_memory(const JobSpec& job, std::int32_t threads, std::int64_t runs) {
+JobMemoryEstimate estimate_job_memory(const JobSpec& job, std::int32_t threads, std::int64_t runs,
+                                      std::int64_t variants) {
   const TaskDefinition* task = find_task(job.task);
   if (task == nullptr) throw std::logic_error("job names task '" + job.task + "', not registered");
-  const double points = static_cast<double>(expand_sweep(job).size());
+  const double points = static_cast<double>(expand_sweep(job).size()) *
+                        static_cast<double>(std::max<std::int64_t>(variants, 1));
   const double total_runs = static_cast<double>(std::max<std::int64_t>(runs, 0));
   const double workers = std::max(threads, 1);
   const double at_once = std::min(workers, total_runs);
@@ -195,8 +197,9 @@ JobMemoryEstimate estimate_job_memory(const JobSpec& job, std::int32_t threads, 
   return result;
 }
 
-void check_memory(const JobSpec& job, std::int32_t threads, std::int64_t runs, bool ignore) {
-  const JobMemoryEstimate estimate = estimate_job_memory(job, threads, runs);
+void check_memory(const JobSpec& job, std::int32_t threads, std::int64_t runs, bool ignore,
+                  std::int64_t variants) {
+  const JobMemoryEstimate estimate = estimate_job_memory(job, threads, runs, variants);
   const AvailableMemory available = available_memory();
   if (!(estimate.bytes > available.bytes)) return;
   const std::string what = "job '" + job.name + "' needs about " + format_bytes(estimate.bytes) +
@@ -212,7 +215,7 @@ void check_memory(const JobSpec& job, std::int32_t threads, std::int64_t runs, b
                    "--ignore-memory-check to run it anyway");
 }
 
-void check_memory(const JobSpec& job, const RunOptions& options) {
+void check_memory(const JobSpec& job, const RunOptions& options, std::int64_t variants) {
   const std::size_t allowed =
       tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
   const auto threads = static_cast<std::int32_t>(std::min<std::size_t>(allowed, 1 << 20));
@@ -221,7 +224,7 @@ void check_memory(const JobSpec& job, const RunOptions& options) {
     runs = std::max<std::int64_t>(
         std::min<std::int64_t>(options.runs->last, job.runs) - std::max(options.runs->first, 0), 0);
   }
-  check_memory(job, threads, runs, options.ignore_memory_check);
+  check_memory(job, threads, runs, options.ignore_memory_check, variants);
 }
 
 }  // namespace ggk::engine

@@ -45,16 +45,19 @@ struct JobMemoryEstimate {
   std::string largest;
 };
 
-// The peak of computing `runs` runs of `job` with `threads` threads (see above).
-JobMemoryEstimate estimate_job_memory(const JobSpec& job, std::int32_t threads, std::int64_t runs);
+// The peak of computing `runs` runs of `job` with `threads` threads (see above);
+// `variants`: a study's fit variants per sweep point (study.hpp), each a fit more.
+JobMemoryEstimate estimate_job_memory(const JobSpec& job, std::int32_t threads, std::int64_t runs,
+                                      std::int64_t variants = 1);
 
 // Throws UsageError when the estimate exceeds available_memory(); with `ignore`
 // it prints a note to stderr instead and returns.
-void check_memory(const JobSpec& job, std::int32_t threads, std::int64_t runs, bool ignore);
+void check_memory(const JobSpec& job, std::int32_t threads, std::int64_t runs, bool ignore,
+                  std::int64_t variants = 1);
 
 // The check as `ggk run` makes it: the threads oneTBB allows now (call it after
 // ComputeThreads), the runs of options.runs (or all; with --resume an upper
 // bound), options.ignore_memory_check.
-void check_memory(const JobSpec& job, const RunOptions& options);
+void check_memory(const JobSpec& job, const RunOptions& options, std::int64_t variants = 1);
 
 }  // namespace ggk::engine

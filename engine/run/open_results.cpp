@@ -122,7 +122,8 @@ bool grows(const ResolvedConfig& recorded, const Study& study, const fs::path& o
       }
       if (!dropped.empty()) {
         throw UsageError("cannot resume " + output.string() + ": the job drops " + key + " = " +
-                         dropped + ", whose runs the results file holds (a study resumes "
+                         dropped +
+                         ", whose runs the results file holds (a study resumes "
                          "with the values it has, and may add more); add them back, or write "
                          "to another -o");
       }
@@ -282,8 +283,10 @@ void align_configurations(Hdf5File& file, const Study& study, const fs::path& ou
                        "write to another -o");
     }
     if (has_group[configuration->second]) {
-      throw UsageError("cannot resume " + output.string() + ": two of its groups hold the run "
-                       "configuration {" + values + "} (damaged); write to another -o");
+      throw UsageError("cannot resume " + output.string() +
+                       ": two of its groups hold the run "
+                       "configuration {" +
+                       values + "} (damaged); write to another -o");
     }
     has_group[configuration->second] = true;
     found.emplace_back(name, configuration->second);
@@ -314,8 +317,7 @@ void align_configurations(Hdf5File& file, const Study& study, const fs::path& ou
 ResultsHeader new_header(const Study& study, const RunOptions& options);
 
 Hdf5File resume(const Study& study, const RunOptions& options, const fs::path& output,
-                std::vector<std::vector<std::int32_t>>& complete,
-                std::vector<std::string>& notes) {
+                std::vector<std::vector<std::int32_t>>& complete, std::vector<std::string>& notes) {
   Hdf5File file = open_for_resume(output, notes);
   const bool grown = check_same_job(file, study, output);
   align_configurations(file, study, output);
