@@ -62,6 +62,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -198,6 +199,11 @@ class Hdf5File {
   // Introspection, for tools that walk a whole file (ggk diff, merge).
   enum class ObjectKind { kGroup, kDataset, kOther };
   ObjectKind object_kind(std::string_view path) const;
+  // The address of the object a hard link names (equal addresses: the same
+  // object, reached twice: a cycle or a second link); nullopt when `path` is a
+  // soft, external or user-defined link, which a walk must not follow (a link to
+  // the file itself, or to an ancestor, never ends).
+  std::optional<std::uint64_t> hard_link_address(std::string_view path) const;
   // Names of a group's members / an object's attributes, sorted by name.
   std::vector<std::string> member_names(std::string_view group_path) const;
   std::vector<std::string> attribute_names(std::string_view object_path) const;

@@ -126,6 +126,20 @@ Hdf5File::ObjectKind Hdf5File::object_kind(std::string_view path) const {
   }
 }
 
+std::optional<std::uint64_t> Hdf5File::hard_link_address(std::string_view path) const {
+  const std::string name = normalized(path, path_);
+  const Context where{id_, path_};
+  if (name != "/") {
+    H5L_info_t link{};
+    check(H5Lget_info(id_, name.c_str(), &link, H5P_DEFAULT), where, "read the link", name);
+    if (link.type != H5L_TYPE_HARD) return std::nullopt;
+  }
+  H5O_info_t info{};
+  check(H5Oget_info_by_name2(id_, name.c_str(), &info, H5O_INFO_BASIC, H5P_DEFAULT), where,
+        "read the object header of", name);
+  return static_cast<std::uint64_t>(info.addr);
+}
+
 std::vector<std::string> Hdf5File::member_names(std::string_view group_path) const {
   const std::string name = normalized(group_path, path_);
   const Context where{id_, path_};

@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <functional>
+#include <optional>
+#include <set>
 #include <stdexcept>
 #include <vector>
 
@@ -28,17 +30,42 @@ std::string child(const std::string& group, const std::string& name) {
   return group == "/" ? "/" + name : group + "/" + name;
 }
 
+// A results file is a tree of groups no deeper than this; a deeper one is
+// damage (or made to never end), not results.
+constexpr int kMaxDepth = 32;
+
 struct Walk {
+  explicit Walk(const Hdf5File& walked) : file(walked) {}
   const Hdf5File& file;
   std::int64_t datasets = 0;
   std::int64_t attributes = 0;
   std::vector<std::string> problems;
   std::function<bool(const std::string&)> skip = [](const std::string&) { return false; };
+  std::set<std::uint64_t> seen;  // object addresses: each object is read once
 
-  // Reads `path` and everything below it; records what fails and goes on.
-  void visit(const std::string& path) {
+  // Reads `path` and everything below it; records what fails and goes on. A
+  // results file holds hard links only, each object once, in a shallow tree:
+  // a soft or external link, an object reached twice (a link to an ancestor)
+  // or a tree deeper than kMaxDepth is a problem, never followed.
+  void visit(const std::string& path, int depth = 0) {
     if (skip(path)) return;
     try {
+      const std::optional<std::uint64_t> address = file.hard_link_address(path);
+      if (!address) {
+        problems.push_back(path + ": a soft or external link (a results file holds none)");
+        return;
+      }
+      if (!seen.insert(*address).second) {
+        problems.push_back(path +
+                           ": an object linked a second time (a results file names "
+                           "each object once)");
+        return;
+      }
+      if (depth > kMaxDepth) {
+        problems.push_back(path + ": groups nested deeper than " + std::to_string(kMaxDepth) +
+                           " (a results file's are not)");
+        return;
+      }
       for (const std::string& name : file.attribute_names(path)) {
         (void)file.read_attribute_values(path, name);
         ++attributes;
@@ -49,7 +76,9 @@ struct Walk {
           ++datasets;
           return;
         case Hdf5File::ObjectKind::kGroup:
-          for (const std::string& name : file.member_names(path)) visit(child(path, name));
+          for (const std::string& name : file.member_names(path)) {
+            visit(child(path, name), depth + 1);
+          }
           return;
         case Hdf5File::ObjectKind::kOther:
           return;
@@ -64,7 +93,7 @@ struct Walk {
 
 std::optional<std::string> verify_run(const Hdf5File& file, const std::string& task,
                                       std::int32_t run) {
-  Walk walk{file, 0, 0, {}};
+  Walk walk(file);
   walk.visit(run_group(task, run));
   if (walk.problems.empty()) return std::nullopt;
   return walk.problems.front();
@@ -79,7 +108,7 @@ bool verify_results(const std::filesystem::path& path, std::ostream& out) {
                      " (if it is a results file, its first bytes are damaged)");
   }
   const Hdf5File& file = *opened;
-  Walk walk{file, 0, 0, {}};
+  Walk walk(file);
   walk.skip = [](const std::string& object) {
     return object.size() > 1 && object.find('/', 1) == std::string::npos &&
            is_scratch(std::string_view(object).substr(1));

@@ -112,6 +112,50 @@ TEST_F(ResultsVerifyTest, AFlippedByteInAChunkIsFoundAndNamed) {
   EXPECT_EQ(verify_run(file, "maze", 2), std::nullopt);
 }
 
+// Links no results file holds, made with the C API: a hard link from a run to
+// an ancestor (a cycle), an external link to the file itself, groups nested
+// 2,000 deep. The walks of verify_results and verify_run (what --resume reads)
+// end on each, naming the object; before, the first two never ended.
+void add_link(const fs::path& path, const std::string& kind) {
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  if (kind == "ancestor") {
+    EXPECT_GE(H5Lcreate_hard(f, "/maze", f, "/maze/run_001/loop", H5P_DEFAULT, H5P_DEFAULT), 0);
+  } else if (kind == "self") {
+    EXPECT_GE(
+        H5Lcreate_external(path.c_str(), "/", f, "/maze/run_001/self", H5P_DEFAULT, H5P_DEFAULT),
+        0);
+  } else {
+    std::string group = "/maze/run_001";
+    for (int depth = 0; depth < 2000; ++depth) {
+      group += "/n";
+      const hid_t g = H5Gcreate2(f, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      ASSERT_GE(g, 0);
+      H5Gclose(g);
+    }
+  }
+  H5Fclose(f);
+}
+
+TEST_F(ResultsVerifyTest, CyclesExternalLinksAndDeepNestingEndAndAreNamed) {
+  for (const std::string kind : {"ancestor", "self", "deep"}) {
+    const fs::path path = dir_ / (kind + ".h5");
+    fs::copy_file(dir_ / "out.h5", path);
+    add_link(path, kind);
+    std::ostringstream out;
+    EXPECT_FALSE(verify_results(path, out)) << kind;
+    EXPECT_TRUE(contains(out.str(), "/maze/run_001/")) << kind << ": " << out.str();
+    const Hdf5File file = Hdf5File::open_read_only(path);
+    const std::optional<std::string> damage = verify_run(file, "maze", 1);
+    ASSERT_TRUE(damage.has_value()) << kind;
+    EXPECT_TRUE(contains(*damage, kind == "ancestor" ? "linked a second time"
+                                  : kind == "self"   ? "soft or external link"
+                                                     : "nested deeper"))
+        << *damage;
+    EXPECT_EQ(verify_run(file, "maze", 0), std::nullopt) << kind;
+  }
+}
+
 TEST_F(ResultsVerifyTest, AFileThatIsNoResultsFileIsAUsageError) {
   std::ostringstream out;
   EXPECT_THROW(verify_results(dir_ / "missing.h5", out), UsageError);
