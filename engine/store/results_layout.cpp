@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 
 namespace ggk::engine {
 
@@ -94,6 +95,11 @@ ResultsHeader read_results_header(const Hdf5File& file) {
   header.task = string_at(file, "task", true);
   header.job_file = string_at(file, "job_file", true);
   header.runs = int64_at(file, "runs", true, 0);
+  if (header.runs < 1 || header.runs > INT32_MAX) {
+    throw ResultsHeaderError(file.path().string() +
+                             " is not a ggk results file: its 'runs' attribute is " +
+                             std::to_string(header.runs) + ", not a run count (1 .. 2147483647)");
+  }
   header.ggk_version = string_at(file, "ggk_version", true);
   header.git = string_at(file, "git", true);
   header.created = string_at(file, "created", true);

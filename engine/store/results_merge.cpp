@@ -16,6 +16,7 @@
 #include "engine/job/usage_error.hpp"
 #include "engine/store/output_lock.hpp"
 #include "engine/store/results_layout.hpp"
+#include "engine/store/results_verify.hpp"
 #include "engine/store/run_store.hpp"
 
 namespace ggk::engine {
@@ -177,6 +178,19 @@ void merge_results(const std::filesystem::path& output,
                      "; compute them (ggk run --runs A:B into another shard), or pass "
                      "--allow-partial to merge what exists and then compute them with `" +
                      finish_command(first, options.program, output) + "`");
+  }
+
+  // Nothing copied is trusted unchecked: every run to merge reads back whole
+  // (checksums, the run's shape: results_verify.hpp) before the output exists.
+  for (std::size_t l = 0; l < locations.size(); ++l) {
+    for (const auto& [run, s] : owners[l]) {
+      if (const auto damage = verify_run(shards[s].file, locations[l], run)) {
+        throw UsageError(shards[s].path.string() + ": run " + std::to_string(run) +
+                         (locations[l] == task ? std::string() : " of " + locations[l]) +
+                         " is damaged (" + *damage + "); compute it again with ggk run --resume " +
+                         "on that shard (the same command and -o as it was made with), then merge");
+      }
+    }
   }
 
   // Written under a temporary name, renamed into place when whole.

@@ -1,5 +1,6 @@
 #include "engine/store/results_verify.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <optional>
@@ -89,13 +90,80 @@ struct Walk {
   }
 };
 
+bool is_dataset(const Hdf5File& file, const std::string& path) {
+  return file.exists(path) && file.object_kind(path) == Hdf5File::ObjectKind::kDataset;
+}
+
+bool is_group(const Hdf5File& file, const std::string& path) {
+  return file.exists(path) && file.object_kind(path) == Hdf5File::ObjectKind::kGroup;
+}
+
+std::optional<std::string> shape_problem(const Hdf5File& file, const std::string& group) {
+  for (const char* name : {"samples/observations", "samples/actions", "samples/rewards",
+                           "samples/next_observations", "samples/terminals"}) {
+    if (!is_dataset(file, group + "/" + name)) return group + "/" + name + ": missing";
+  }
+  // One transition per row: three vectors and two matrices of one length.
+  const std::vector<std::int64_t> actions = file.dataset_shape(group + "/samples/actions");
+  if (actions.size() != 1) return group + "/samples/actions: not a vector";
+  for (const char* name : {"samples/rewards", "samples/terminals"}) {
+    if (file.dataset_shape(group + "/" + name) != actions) {
+      return group + "/" + name + ": not one value per transition";
+    }
+  }
+  for (const char* name : {"samples/observations", "samples/next_observations"}) {
+    const std::vector<std::int64_t> shape = file.dataset_shape(group + "/" + name);
+    if (shape.size() != 2 || shape[0] != actions[0]) {
+      return group + "/" + name + ": not one row per transition";
+    }
+  }
+  if (!is_group(file, group + "/graph")) return group + "/graph: missing";
+  const std::string table = group + "/fit_metrics";
+  if (!is_dataset(file, table)) return table + ": missing";
+  const std::vector<TableColumn> columns = file.read_table_columns(table);
+  static const std::vector<std::pair<std::string, ColumnType>> kFixed = {
+      {"run", ColumnType::kInt32},      {"sweep_point", ColumnType::kInt32},
+      {"basis", ColumnType::kString},   {"kernels", ColumnType::kInt32},
+      {"sigma", ColumnType::kFloat64},  {"solver", ColumnType::kString},
+      {"lambda", ColumnType::kFloat64}, {"status", ColumnType::kString}};
+  for (const auto& [name, type] : kFixed) {
+    const auto column = std::find_if(columns.begin(), columns.end(),
+                                     [&](const TableColumn& c) { return c.name == name; });
+    if (column == columns.end() || column->type != type) {
+      return table + ": no column '" + name + "' of the type every results file has";
+    }
+  }
+  std::size_t fits = 0;
+  if (is_group(file, group + "/fits")) {
+    for (const std::string& basis : file.member_names(group + "/fits")) {
+      if (!is_group(file, group + "/fits/" + basis)) return group + "/fits/" + basis + ": no group";
+      fits += file.member_names(group + "/fits/" + basis).size();
+    }
+  }
+  const std::size_t rows = file.read_table(table).size();
+  if (fits != rows) {
+    return group + "/fits: " + std::to_string(fits) + " fit groups for the " +
+           std::to_string(rows) + " rows of fit_metrics (a run holds one per row)";
+  }
+  return std::nullopt;
+}
+
 }  // namespace
+
+std::optional<std::string> run_shape_problem(const Hdf5File& file, const std::string& task,
+                                             std::int32_t run) {
+  try {
+    return shape_problem(file, run_group(task, run));
+  } catch (const std::runtime_error& e) {
+    return run_group(task, run) + ": " + one_line(e.what());
+  }
+}
 
 std::optional<std::string> verify_run(const Hdf5File& file, const std::string& task,
                                       std::int32_t run) {
   Walk walk(file);
   walk.visit(run_group(task, run));
-  if (walk.problems.empty()) return std::nullopt;
+  if (walk.problems.empty()) return run_shape_problem(file, task, run);
   return walk.problems.front();
 }
 
@@ -119,8 +187,15 @@ bool verify_results(const std::filesystem::path& path, std::ostream& out) {
     const ResultsHeader header = read_results_header(file);
     const std::vector<std::string> locations = runs_locations(file, header.task);
     for (const std::string& location : locations) {
-      complete += static_cast<std::int64_t>(
-          complete_runs(file, location, static_cast<std::int32_t>(header.runs)).size());
+      for (const std::int32_t run :
+           complete_runs(file, location, static_cast<std::int32_t>(header.runs))) {
+        ++complete;
+        if (walk.problems.empty() || walk.problems.size() < kShownProblems) {
+          if (auto problem = run_shape_problem(file, location, run)) {
+            walk.problems.push_back(*problem);
+          }
+        }
+      }
     }
     runs = header.runs *
            static_cast<std::int64_t>(locations.size());  // a study's: every configuration's

@@ -20,10 +20,20 @@
 
 namespace ggk::engine {
 
-// Empty when every dataset and attribute of the run's group reads back; else
-// what failed first (path and HDF5's reason, cut to a line).
+// Empty when every dataset and attribute of the run's group reads back and the
+// run is whole (run_shape_problem); else what failed first (path and reason,
+// cut to a line). `task`: a run location (run_store.hpp: "maze/config_002").
 std::optional<std::string> verify_run(const Hdf5File& file, const std::string& task,
                                       std::int32_t run);
+
+// Empty when the run's group has what write_run writes (run_store.hpp): the
+// samples' five datasets, the graph, a fit_metrics table with the columns every
+// task's has (run, sweep_point, basis, kernels, sigma, solver, lambda, status,
+// of their types), and one fit group under fits/ per row of it; else what is
+// missing or wrong. A run whose objects all read can still be cut (a deleted
+// fits group) or replaced (other datasets): it is not complete then.
+std::optional<std::string> run_shape_problem(const Hdf5File& file, const std::string& task,
+                                             std::int32_t run);
 
 // Reads the whole file (the writer's /.staging scratch aside) and prints the
 // verdict to `out`: counts of datasets and attributes read, runs complete, and

@@ -17,6 +17,7 @@
 #include "engine/run/job_runner.hpp"
 #include "engine/store/results_diff.hpp"
 #include "engine/store/run_store.hpp"
+#include "support/chunk_damage.hpp"
 #include "support/determinism_job.hpp"
 #include "support/ggk_binary.hpp"
 #include "support/results_compare.hpp"
@@ -116,6 +117,38 @@ TEST_F(ResultsMergeTest, GapsAreNamedAndMergeOnlyWithAllowPartial) {
   EXPECT_EQ(run_job(job, resume).runs_computed, 2);
   run_job(job, options_for(dir_ / "whole.h5"));
   expect_identical_results(job, dir_ / "whole.h5", dir_ / "merged.h5");
+}
+
+// Nothing copied is trusted unchecked: a shard with one flipped byte in a
+// chunk, or a run cut short (its fits deleted), is refused naming the shard and
+// the object, and the output is not made (before, the flipped byte was merged
+// with exit 0, and a damaged fit_metrics crashed HDF5's copy).
+TEST_F(ResultsMergeTest, ADamagedShardIsRefusedNamingItAndTheObject) {
+  const JobSpec job = four_runs();
+  const fs::path a = shard(job, "a.h5", 0, 2), b = shard(job, "b.h5", 2, 4);
+  const std::string weights = "/maze/run_003/fits/ggk/k_0008_sigma3_brm_lambda1e-06/weights";
+  fs::copy_file(b, dir_ / "flipped.h5");
+  const ChunkPlace chunk = first_chunk(dir_ / "flipped.h5", weights);
+  ASSERT_NE(chunk.address, HADDR_UNDEF) << weights;
+  flip_byte(dir_ / "flipped.h5", chunk.address + chunk.size / 2);
+  std::string message = refusal(dir_ / "out.h5", {a, dir_ / "flipped.h5"});
+  EXPECT_TRUE(contains(message, (dir_ / "flipped.h5").string() + ": run 3 is damaged")) << message;
+  EXPECT_TRUE(contains(message, weights)) << message;
+  EXPECT_FALSE(fs::exists(dir_ / "out.h5"));
+
+  fs::copy_file(b, dir_ / "cut.h5");
+  {
+    Hdf5File cut = Hdf5File::open_read_write(dir_ / "cut.h5");
+    cut.remove("/maze/run_002/fits");
+    cut.flush();
+  }
+  message = refusal(dir_ / "out.h5", {a, dir_ / "cut.h5"});
+  EXPECT_TRUE(contains(message, "run 2 is damaged")) << message;
+  EXPECT_TRUE(contains(message, "/maze/run_002/fits")) << message;
+  EXPECT_FALSE(fs::exists(dir_ / "out.h5"));
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_FALSE(contains(entry.path().filename().string(), "merging")) << entry.path();
+  }
 }
 
 TEST_F(ResultsMergeTest, AShardOfAnotherJobIsRefused) {

@@ -8,7 +8,6 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -18,6 +17,7 @@
 #include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/usage_error.hpp"
 #include "engine/run/job_runner.hpp"
+#include "support/chunk_damage.hpp"
 #include "support/determinism_job.hpp"
 #include "support/ggk_binary.hpp"
 
@@ -28,43 +28,6 @@ namespace fs = std::filesystem;
 using namespace test_support;
 
 constexpr const char* kWeights = "/maze/run_001/fits/ggk/k_0008_sigma3_brm_lambda1e-06/weights";
-
-// Where the first stored chunk of dataset `path` lies in `file`: its byte
-// offset and size (as filtered: shuffled, compressed, checksummed).
-struct ChunkPlace {
-  haddr_t address = HADDR_UNDEF;
-  hsize_t size = 0;
-};
-
-ChunkPlace first_chunk(const fs::path& file, const std::string& path) {
-  ChunkPlace place;
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) return place;
-  const hid_t d = H5Dopen2(f, path.c_str(), H5P_DEFAULT);
-  if (d >= 0) {
-    const hid_t space = H5Dget_space(d);
-    hsize_t offset[1] = {0};
-    unsigned filter_mask = 0;
-    if (space < 0 ||
-        H5Dget_chunk_info(d, space, 0, offset, &filter_mask, &place.address, &place.size) < 0) {
-      place = {};
-    }
-    if (space >= 0) H5Sclose(space);
-    H5Dclose(d);
-  }
-  H5Fclose(f);
-  return place;
-}
-
-// Flips every bit of the byte at `offset` of `file`.
-void flip_byte(const fs::path& file, std::uint64_t offset) {
-  std::fstream io(file, std::ios::in | std::ios::out | std::ios::binary);
-  io.seekg(static_cast<std::streamoff>(offset));
-  char byte = 0;
-  io.get(byte);
-  io.seekp(static_cast<std::streamoff>(offset));
-  io.put(static_cast<char>(~byte));
-}
 
 class ResultsVerifyTest : public JobRunnerTest {
  protected:
@@ -154,6 +117,28 @@ TEST_F(ResultsVerifyTest, CyclesExternalLinksAndDeepNestingEndAndAreNamed) {
         << *damage;
     EXPECT_EQ(verify_run(file, "maze", 0), std::nullopt) << kind;
   }
+}
+
+// Objects that all read can still make a run that is not whole: its fits
+// group deleted, its actions replaced by another shape. verify_results and
+// verify_run (so --resume, which then computes it again) name it; before,
+// verify exited 0 and --resume kept the run.
+TEST_F(ResultsVerifyTest, ARunCutOrReplacedIsNotWhole) {
+  {
+    Hdf5File file = Hdf5File::open_read_write(dir_ / "out.h5");
+    file.remove("/maze/run_001/fits");
+    file.remove("/maze/run_002/samples/actions");
+    file.write_matrix("/maze/run_002/samples/actions", 2, 2, std::vector<std::int32_t>(4, 0));
+    file.flush();
+  }
+  const auto [whole, printed] = verify();
+  EXPECT_FALSE(whole) << printed;
+  EXPECT_TRUE(contains(printed, "/maze/run_001/fits: 0 fit groups")) << printed;
+  EXPECT_TRUE(contains(printed, "/maze/run_002/samples/actions: not a vector")) << printed;
+  const Hdf5File file = Hdf5File::open_read_only(dir_ / "out.h5");
+  EXPECT_NE(verify_run(file, "maze", 1), std::nullopt);
+  EXPECT_NE(verify_run(file, "maze", 2), std::nullopt);
+  EXPECT_EQ(verify_run(file, "maze", 0), std::nullopt);
 }
 
 TEST_F(ResultsVerifyTest, AFileThatIsNoResultsFileIsAUsageError) {
