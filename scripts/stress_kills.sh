@@ -37,7 +37,9 @@ for try in $(seq "$tries"); do
   signal=${signals[$((RANDOM % 3))]}
   delay=$(printf '0.%03d' $((RANDOM % 1000)))
   [ $((RANDOM % 2)) = 0 ] && delay=1.$((RANDOM % 5))
+  set -m  # job control: SIGINT not ignored (ggk keeps an inherited SIG_IGN)
   "$ggk" run "$scratch/job.toml" -j 2 -q -o "$out" 2>/dev/null & pid=$!
+  set +m
   sleep "$delay"
   kill -s "$signal" $pid 2>/dev/null || true
   wait $pid 2>/dev/null || true

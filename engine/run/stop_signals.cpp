@@ -86,7 +86,12 @@ StopSignals::StopSignals(Mode mode) {
   action.sa_handler = on_stop_signal;
   sigemptyset(&action.sa_mask);
   for (std::size_t i = 0; i < std::size(kSignals); ++i) {
-    ::sigaction(kSignals[i], &action, &g_previous[i]);
+    // A signal the process inherited as ignored stays ignored (POSIX shells
+    // start `cmd &` with SIGINT ignored, nohup with SIGHUP): only a handler that
+    // was not SIG_IGN is replaced (the old one holds until the new one is set).
+    ::sigaction(kSignals[i], nullptr, &g_previous[i]);
+    if (g_previous[i].sa_handler == SIG_IGN) continue;
+    ::sigaction(kSignals[i], &action, nullptr);
   }
 }
 

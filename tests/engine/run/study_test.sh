@@ -158,7 +158,9 @@ resume)
   sets=(--sweep 'maze.slip=0.0,0.2' --set 'sweep.kernels=[48, 64]' --set 'sweep.sigma=[5.0]')
   "$GGK" run "$job" -q -j 2 "${sets[@]}" -o "$scratch/ref.h5" 2>/dev/null
   out="$scratch/cut it's.h5"
+  set -m  # job control: SIGINT not ignored (as a background job of a script starts)
   "$GGK" run "$job" -j 1 "${sets[@]}" -o "$out" 2>"$scratch/err" & pid=$!
+  set +m
   for _ in $(seq 300); do [ -e "$out" ] && break; sleep 0.05; done
   [ -e "$out" ] || fail "no run written"
   kill -INT $pid
