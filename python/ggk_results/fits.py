@@ -105,6 +105,14 @@ def read_fit(f, group_path, task):
         arrays["returns"] = xr.DataArray(
             returns, dims=("episode",), coords={"episode": np.arange(len(returns))},
             name="returns", attrs={"description": "return of each evaluation episode"})
+    if "evaluation" in fit:
+        for name in fit["evaluation"]:
+            if name.startswith("trajectory_"):
+                poses = fit["evaluation"][name][:]
+                arrays["evaluation_" + name] = xr.DataArray(
+                    poses, dims=("step", "pose"), coords={"pose": ["x", "y", "heading"]},
+                    name=name, attrs={"description": "pose of each step of an evaluation episode "
+                                      "(x, y in cm, heading in rad)"})
     for name in fit:
         if name.startswith("trajectory_"):
             trajectory = fit[name][:]

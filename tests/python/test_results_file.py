@@ -100,6 +100,34 @@ class CompleteFile(unittest.TestCase):
             fit(self.path, run=7, basis="ggk", kernels=8, solver="brm")
 
 
+class ArmAndKheperaFits(Scratch):
+    def test_arrays_are_named_by_what_they_index(self):
+        made = run_ggk("run", support.SOURCE / "jobs/arm-quick.toml", "-q", "-o",
+                       self.dir / "arm.h5")
+        self.assertEqual(made.returncode, 0, made.stderr)
+        arm = fit(self.dir / "arm.h5", run=0, basis="ogk", kernels=16)
+        with h5py.File(self.dir / "arm.h5", "r") as f:
+            state_of, goal = f["arm/run_000/grid/state_of"][:], f["arm/run_000/grid/goal"][:]
+        goals = set(state_of[goal == 1].tolist())
+        starts = arm.steps_to_goal.start.values
+        self.assertEqual(len(goals), 16)
+        self.assertEqual(len(starts) + len(goals), len(arm.policy))
+        self.assertFalse(goals & set(starts.tolist()))
+        self.assertEqual(arm.weights.action.values.tolist(),
+                         ["shoulder+", "shoulder-", "elbow+", "elbow-"])
+        self.assertEqual(int(arm.trajectory_A[-1]) in goals, arm.point["success_from_A"] == 1)
+
+        made = run_ggk("run", support.SOURCE / "jobs/khepera-quick.toml", "-q", "-o",
+                       self.dir / "khepera.h5")
+        self.assertEqual(made.returncode, 0, made.stderr)
+        khepera = fit(self.dir / "khepera.h5", run=1, basis="ggk", kernels=10, solver="brm")
+        self.assertEqual(khepera.policy.dims, ("reading",))
+        self.assertEqual(khepera.unit_policy.dims, ("unit",))
+        self.assertEqual(khepera.evaluation_trajectory_0.pose.values.tolist(),
+                         ["x", "y", "heading"])
+        self.assertAlmostEqual(float(khepera.returns.mean()), khepera.point["mean_return"])
+
+
 class InterruptedFile(Scratch):
     def test_a_killed_job_loads_from_its_complete_runs(self):
         out = self.dir / "killed.h5"
