@@ -114,9 +114,15 @@ def read_summary_table(f, task):
     if "summary" in f[task]:
         table = f[task]["summary"]
         columns = read_table(table)
-        return Summary(columns, study_axes_of(table, columns), True, runs)
-    warnings.warn(f"{path}: no /{task}/summary (the job is running or was interrupted): "
-                  f"read the fit_metrics of its {len(runs)} complete run(s)",
+        keys = [columns[c] for c in ("configuration", "run") if c in columns]
+        covered = len(set(zip(*keys))) if keys else 0
+        if covered >= len(runs):
+            return Summary(columns, study_axes_of(table, columns), True, runs)
+        # A summary older than the runs (a study that grows): the runs decide.
+        why = f"/{task}/summary covers {covered} of its {len(runs)} complete runs"
+    else:
+        why = f"no /{task}/summary (the job is running or was interrupted)"
+    warnings.warn(f"{path}: {why}: read the fit_metrics of its {len(runs)} complete run(s)",
                   PartialResultsWarning, stacklevel=3)
     parts, study_axes = [], []
     for run in runs:

@@ -230,6 +230,17 @@ class StudyLayout(Scratch):
         write_study(self.dir / "study.h5", summary=True)
         self.check(open_results(self.dir / "study.h5"))
 
+    def test_a_summary_older_than_the_runs_gives_way_to_them(self):
+        write_study(self.dir / "study.h5", summary=True)
+        with h5py.File(self.dir / "study.h5", "a") as f:
+            rows = f["maze/summary"][:]
+            del f["maze/summary"]
+            old = f.create_dataset("maze/summary", data=rows[:4])  # configuration 0 only
+            old.attrs["study_axes"] = "maze.slip"
+        with self.assertWarnsRegex(PartialResultsWarning, "covers 2 of its 4 complete runs"):
+            results = open_results(self.dir / "study.h5")
+        self.check(results)
+
     def test_a_running_study_reads_its_configuration_groups(self):
         write_study(self.dir / "study.h5", summary=False)
         with self.assertWarns(PartialResultsWarning):
