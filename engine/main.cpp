@@ -267,6 +267,15 @@ int main(int argc, char** argv) {
   CLI::App* diff = app.add_subcommand(
       "diff", "Exit 0 when two results files hold the same results, 1 (naming them) when not");
   diff->add_option("files", diff_files, "two results files")->required()->expected(2);
+  engine::DiffOptions diff_options;
+  diff->add_option("--rtol", diff_options.tolerance.rtol,
+                   "floats equal when |a - b| <= atol + rtol |b| (default 0: bit for bit); "
+                   "exit 0 same, 1 different, 2 usage error");
+  diff->add_option("--atol", diff_options.tolerance.atol,
+                   "absolute tolerance of floats (default 0)");
+  diff->add_option("--exclude", diff_options.exclude,
+                   "GLOB: leave out objects whose printed path matches (repeatable), e.g. "
+                   "'*/history/*'");
 
   std::string merge_output, merge_job;
   std::vector<std::string> merge_inputs;
@@ -344,7 +353,9 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*verify) return engine::verify_results(verify_path, std::cout) ? 0 : 1;
-    if (*diff) return engine::diff_results(diff_files[0], diff_files[1], std::cout) ? 0 : 1;
+    if (*diff) {
+      return engine::diff_results(diff_files[0], diff_files[1], std::cout, diff_options) ? 0 : 1;
+    }
     if (*merge) {
       std::vector<std::filesystem::path> shards(merge_inputs.begin(), merge_inputs.end());
       if (!merge_job.empty()) {

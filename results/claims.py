@@ -2,8 +2,9 @@
 """The paper's claims against ggk's results files: one markdown table.
 
 Each row: the claim, what the paper states, what ggk measures (per sweep point,
-GGK - OGK paired by run, with the 95 % Student-t interval of the mean
-difference), and a verdict from fixed rules:
+GGK - OGK paired by run, with the 95 % interval of ggk_results.paired: Student's
+t of the mean difference, or Newcombe's paired score interval for a 0/1 success
+from A), and a verdict from fixed rules:
   reproduced      GGK significantly ahead at more than half of the points and
                   significantly behind at none;
   partly          GGK significantly ahead at two points or more, and at more
@@ -11,168 +12,237 @@ difference), and a verdict from fixed rules:
   not reproduced  otherwise.
 A claim that has no number (a figure the paper shows and describes) says so.
 
-  /usr/bin/python3 results/claims.py [--results DIR] [--readme README.md]
+  /usr/bin/python3 results/claims.py [--results DIR | FILE ...] [--readme README.md]
+
+Files are recognised by what they hold, not by name: the arm's task, and the
+Khepera's task with its rotation step (khepera.motion.turn_deg: 15 is the
+paper's job, 30 and 45 the rotation-step study). With --results DIR (default
+results/) the paper's files arm-paper.h5, khepera-paper.h5, khepera-turn30.h5
+and khepera-turn45.h5 are used where present, and any other .h5 file there for
+a role none of them fills (e.g. out/quick/ of scripts/reproduce.sh --quick);
+two files for one role are an error (exit 2) naming both. A file whose job has
+not finished contributes its complete runs (said on stderr).
 
 With --readme, the table between the README's "<!-- claims:begin -->" and
-"<!-- claims:end -->" lines is replaced; otherwise it is printed. Files that do
-not exist yet give a row saying which job makes them.
+"<!-- claims:end -->" lines is replaced; otherwise it is printed. A role with
+no file gives a row saying which job makes it.
 """
 
 import argparse
-import math
 import os
 import sys
+import tomllib
+import warnings
+from pathlib import Path
 
-import numpy as np
-from scipy import stats
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+# ggk_results from this checkout (python/), installed or not (python/README.md).
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
 import ggk_results  # noqa: E402
 
-
-def paired(frame, metric, solver):
-    """Per kernel count: (kernels, ggk mean, ogk mean, mean diff, half width)."""
-    rows = []
-    part = frame[frame.solver == solver]
-    for kernels, group in part.groupby("kernels"):
-        ggk = group[group.basis == "ggk"].set_index("run")[metric]
-        ogk = group[group.basis == "ogk"].set_index("run")[metric]
-        diff = (ggk - ogk).dropna().to_numpy(dtype=float)
-        n = len(diff)
-        if n < 2:
-            half = math.nan
-        else:
-            half = stats.t.ppf(0.975, n - 1) * diff.std(ddof=1) / math.sqrt(n)
-        rows.append((int(kernels), ggk.mean(), ogk.mean(), diff.mean(), half, n))
-    return rows
+# The roles of the claims table, the paper's file for each, and the job that makes it.
+PAPER_FILES = {
+    "arm": ("arm-paper.h5", "jobs/arm-paper.toml"),
+    "khepera-15": ("khepera-paper.h5", "jobs/khepera-paper.toml"),
+    "khepera-30": ("khepera-turn30.h5", "jobs/khepera-turn30.toml"),
+    "khepera-45": ("khepera-turn45.h5", "jobs/khepera-turn45.toml"),
+}
+DEFAULT_TURN_DEG = 15.0  # jobs/README.md, [khepera.motion] turn_deg
+FIGURE_KERNELS = 128  # the kernel count of Fig. 2 (results/figures/arm_values.png)
 
 
-def tally(rows):
-    ahead = sum(1 for r in rows if r[3] - r[4] > 0)
-    behind = sum(1 for r in rows if r[3] + r[4] < 0)
+class UsageError(Exception):
+    pass
+
+
+def role_of(results):
+    """The claims role of an open_results file, or None for another task."""
+    if results.task == "arm":
+        return "arm"
+    if results.task != "khepera":
+        return None
+    turn = DEFAULT_TURN_DEG
+    if "job_resolved" in results.attrs:
+        turn = tomllib.loads(results.attrs["job_resolved"]).get("khepera.motion.turn_deg", turn)
+    elif "job" in results.attrs:
+        job = tomllib.loads(results.attrs["job"])
+        turn = job.get("khepera", {}).get("motion", {}).get("turn_deg", turn)
+    return f"khepera-{turn:g}"
+
+
+def load(path):
+    """open_results(path), noting on stderr when its job has not finished."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ggk_results.PartialResultsWarning)
+        results = ggk_results.open_results(path)
+    if not results.complete:
+        print(f"claims.py: {path} has no summary yet (its job is not finished): "
+              f"{len(results.runs)} complete run(s) used", file=sys.stderr)
+    return results
+
+
+def assign_roles(paths, preferred=()):
+    """{role: (path, frame)} of the files; a file in `preferred` (the paper's
+    file names in --results DIR) fills its role before any other file."""
+    roles, sources = {}, {}
+    for path in sorted(paths, key=lambda p: (p not in preferred, str(p))):
+        results = load(path)
+        role = role_of(results)
+        if role is None:
+            continue
+        if role in roles:
+            if sources[role] in preferred:
+                continue
+            raise UsageError(f"{sources[role]} and {path} both hold {role} results: "
+                             "give the files to use (claims.py FILE ...)")
+        roles[role], sources[role] = results.summary(), path
+    return roles, sources
+
+
+def tally(points):
+    ahead = int((points.low > 0).sum())
+    behind = int((points.high < 0).sum())
     return ahead, behind
 
 
-def verdict(rows):
-    ahead, behind = tally(rows)
-    if ahead * 2 > len(rows) and behind == 0:
+def verdict(points):
+    ahead, behind = tally(points)
+    if ahead * 2 > len(points) and behind == 0:
         return "reproduced"
     if ahead >= 2 and ahead > behind:
         return "partly"
     return "not reproduced"
 
 
-def describe(rows, scale, unit):
+def interval_text(r, scale):
+    """'+d ± h' for a t interval (symmetric), 'd, CI [low, high]' for Newcombe's."""
+    if r.method == "t":
+        return f"{scale * r.difference:+.3g} ± {scale * (r.high - r.difference):.2g}"
+    return (f"{scale * r.difference:+.3g}, 95 % CI {scale * r.low:+.2g} to "
+            f"{scale * r.high:+.2g}")
+
+
+def describe(points, scale, unit):
     """'GGK ahead at a of n kernel counts, behind at b; e.g. k: x vs y (d +- h)'."""
-    ahead, behind = tally(rows)
-    best = max(rows, key=lambda r: r[3])
-    worst = min(rows, key=lambda r: r[3])
-    runs = rows[0][5]
+    ahead, behind = tally(points)
+    best = points.loc[points.difference.idxmax()]
+    worst = points.loc[points.difference.idxmin()]
+    runs = int(points.pairs.iloc[0])
 
     def point(r):
-        return (f"{r[0]} kernels {scale * r[1]:.3g}{unit} vs {scale * r[2]:.3g}{unit} "
-                f"({scale * r[3]:+.3g} ± {scale * r[4]:.2g})")
+        return (f"{int(r.kernels)} kernels {scale * r.a:.3g}{unit} vs {scale * r.b:.3g}{unit} "
+                f"({interval_text(r, scale)})")
 
-    text = (f"GGK significantly ahead at {ahead} of {len(rows)} kernel counts, behind at "
+    text = (f"GGK significantly ahead at {ahead} of {len(points)} kernel counts, behind at "
             f"{behind} ({runs} runs); best for GGK: {point(best)}")
-    if worst is not best:
+    if worst.name != best.name:
         text += f"; worst: {point(worst)}"
     return text
 
 
-def load(results, name):
-    """The summary of a results file, or None when the file is missing or its
-    job has not finished (no summary yet: ggk run --resume finishes it)."""
-    path = os.path.join(results, name)
-    if not os.path.exists(path):
-        return None
-    try:
-        return ggk_results.summary_frame(path)
-    except KeyError:
-        print(f"claims.py: {path} has no summary yet (its job is not finished); left out",
-              file=sys.stderr)
-        return None
+def paired_points(frame, metric, solver):
+    return ggk_results.paired(frame[frame.solver == solver], metric, compare="basis", a="ggk",
+                              b="ogk", by=["kernels"])
 
 
-def claims_table(results):
+def arm_rows(arm):
+    rows = [(
+        "Arm: value function keeps the obstacle's discontinuity (Fig. 2)",
+        "GGKs give a smooth surface with the obstacle-induced discontinuity sharply "
+        "preserved; OGKs smooth it out",
+        "figure only (results/figures/arm_values.png, run 0, 128 kernels); no number",
+        "shown, not measured",
+    )]
+    kernels = FIGURE_KERNELS if (arm.kernels == FIGURE_KERNELS).any() else int(arm.kernels.max())
+    shown = arm[(arm.run == arm.run.min()) & (arm.kernels == kernels) & (arm.solver == "brm")]
+    run = int(arm.run.min())
+
+    def outcome(basis):
+        row = shown[shown.basis == basis].iloc[0]
+        if row.success_from_A >= 1:
+            return f"{basis.upper()} reaches the goal from A in {int(row.steps_from_A)} steps"
+        return f"{basis.upper()} does not reach it"
+
+    which = ("the figure's" if kernels == FIGURE_KERNELS and run == 0
+             else "this file's; the figure's are run 0, 128 kernels")
+    rows.append((
+        "Arm: the GGK trajectory from A goes around the obstacle, the OGK one "
+        "gets stuck (Fig. 2)",
+        "from A the GGK-based policy avoids the obstacle; the OGK-based one moves "
+        "the arm through it and gets stuck",
+        f"run {run}, {kernels} kernels ({which}): {outcome('ggk')}, {outcome('ogk')}",
+        "reproduced" if shown[shown.basis == "ggk"].success_from_A.iloc[0] >= 1
+        and shown[shown.basis == "ogk"].success_from_A.iloc[0] < 1 else "not reproduced",
+    ))
+    from_a = paired_points(arm, "success_from_A", "brm")
+    rows.append((
+        "Arm: success vs kernels (Fig. 3)",
+        "GGKs remarkably outperform OGKs (percentage of successful trials over 30 "
+        "runs, tested from A)",
+        "success from A, " + describe(from_a, 100, " %"),
+        verdict(from_a),
+    ))
+    everywhere = paired_points(arm, "success_rate", "brm")
+    rows.append((
+        "Arm: success from every free pose (ggk's addition)",
+        "(not in the paper)",
+        "success from all free poses, " + describe(everywhere, 100, " %"),
+        verdict(everywhere),
+    ))
+    return rows
+
+
+def solvers_of(frame):
+    return [s for s in ("brm", "lstdq") if (frame.solver == s).any()]
+
+
+def khepera_rows(khepera):
+    rows = [(
+        "Khepera: policies differ at region C (Fig. 5)",
+        "OGK backs up at C, GGK rotates; OGK shuttles in front of the obstacle",
+        "region C is not defined outside the paper's figure: policies per unit in "
+        "results/figures/khepera_policies.png; no number",
+        "shown, not measured",
+    )]
+    for solver in solvers_of(khepera):
+        points = paired_points(khepera, "mean_return", solver)
+        rows.append((
+            f"Khepera: exploration vs kernels (Fig. 6), {solver.upper()}, ggk's "
+            "default 15-degree rotations",
+            "GGK explores more than OGK (average amount of exploration)",
+            "mean return of 150 greedy steps, " + describe(points, 1, ""),
+            verdict(points),
+        ))
+    return rows
+
+
+def rotation_rows(study, degrees):
     rows = []
-    arm = load(results, "arm-paper.h5")
-    if arm is None:
-        rows.append(("Arm", "(results/arm-paper.h5 missing: ggk run jobs/arm-paper.toml)", "", ""))
+    for solver in solvers_of(study):
+        points = paired_points(study, "mean_return", solver)
+        rows.append((
+            f"Khepera, {degrees}-degree rotations (a choice the paper leaves open), "
+            f"{solver.upper()}",
+            "(the paper gives no rotation step)",
+            "mean return, " + describe(points, 1, ""),
+            verdict(points),
+        ))
+    return rows
+
+
+def claims_table(roles):
+    rows = []
+    if "arm" in roles:
+        rows += arm_rows(roles["arm"])
     else:
-        rows.append((
-            "Arm: value function keeps the obstacle's discontinuity (Fig. 2)",
-            "GGKs give a smooth surface with the obstacle-induced discontinuity sharply "
-            "preserved; OGKs smooth it out",
-            "figure only (results/figures/arm_values.png, run 0, 128 kernels); no number",
-            "shown, not measured",
-        ))
-        shown = arm[(arm.run == 0) & (arm.kernels == 128) & (arm.solver == "brm")]
-
-        def outcome(basis):
-            row = shown[shown.basis == basis].iloc[0]
-            if row.success_from_A >= 1:
-                return f"{basis.upper()} reaches the goal from A in {int(row.steps_from_A)} steps"
-            return f"{basis.upper()} does not reach it"
-
-        rows.append((
-            "Arm: the GGK trajectory from A goes around the obstacle, the OGK one "
-            "gets stuck (Fig. 2)",
-            "from A the GGK-based policy avoids the obstacle; the OGK-based one moves "
-            "the arm through it and gets stuck",
-            f"run 0, 128 kernels (the figure's): {outcome('ggk')}, {outcome('ogk')}",
-            "reproduced" if shown[shown.basis == "ggk"].success_from_A.iloc[0] >= 1
-            and shown[shown.basis == "ogk"].success_from_A.iloc[0] < 1 else "not reproduced",
-        ))
-        from_a = paired(arm, "success_from_A", "brm")
-        rows.append((
-            "Arm: success vs kernels (Fig. 3)",
-            "GGKs remarkably outperform OGKs (percentage of successful trials over 30 "
-            "runs, tested from A)",
-            "success from A, " + describe(from_a, 100, " %"),
-            verdict(from_a),
-        ))
-        everywhere = paired(arm, "success_rate", "brm")
-        rows.append((
-            "Arm: success from every free pose (ggk's addition)",
-            "(not in the paper)",
-            "success from all free poses, " + describe(everywhere, 100, " %"),
-            verdict(everywhere),
-        ))
-    khepera = load(results, "khepera-paper.h5")
-    if khepera is None:
+        rows.append(("Arm", "(results/arm-paper.h5 missing: ggk run jobs/arm-paper.toml)", "", ""))
+    if "khepera-15" in roles:
+        rows += khepera_rows(roles["khepera-15"])
+    else:
         rows.append(("Khepera", "(results/khepera-paper.h5 missing: ggk run "
                      "jobs/khepera-paper.toml)", "", ""))
-    else:
-        rows.append((
-            "Khepera: policies differ at region C (Fig. 5)",
-            "OGK backs up at C, GGK rotates; OGK shuttles in front of the obstacle",
-            "region C is not defined outside the paper's figure: policies per unit in "
-            "results/figures/khepera_policies.png; no number",
-            "shown, not measured",
-        ))
-        for solver in ("brm", "lstdq"):
-            points = paired(khepera, "mean_return", solver)
-            rows.append((
-                f"Khepera: exploration vs kernels (Fig. 6), {solver.upper()}, ggk's "
-                "default 15-degree rotations",
-                "GGK explores more than OGK (average amount of exploration)",
-                "mean return of 150 greedy steps, " + describe(points, 1, ""),
-                verdict(points),
-            ))
     for degrees in (30, 45):
-        study = load(results, f"khepera-turn{degrees}.h5")
-        if study is None:
-            continue
-        for solver in ("brm", "lstdq"):
-            points = paired(study, "mean_return", solver)
-            rows.append((
-                f"Khepera, {degrees}-degree rotations (a choice the paper leaves open), "
-                f"{solver.upper()}",
-                "(the paper gives no rotation step)",
-                "mean return, " + describe(points, 1, ""),
-                verdict(points),
-            ))
+        if f"khepera-{degrees}" in roles:
+            rows += rotation_rows(roles[f"khepera-{degrees}"], degrees)
     lines = [
         "| claim | the paper | ggk measures (GGK - OGK paired by run, 95 % CI) | verdict |",
         "|---|---|---|---|",
@@ -182,12 +252,34 @@ def claims_table(results):
     return "\n".join(lines) + "\n"
 
 
+def files_of(args):
+    """(paths, preferred): the files to read and the paper's names among them."""
+    if args.files:
+        missing = [p for p in args.files if not os.path.exists(p)]
+        if missing:
+            raise UsageError(f"no such file: {', '.join(missing)}")
+        return list(args.files), set()
+    folder = Path(args.results)
+    if not folder.is_dir():
+        raise UsageError(f"{folder}: not a folder of results files")
+    paths = sorted(str(p) for p in folder.glob("*.h5"))
+    preferred = {str(folder / name) for name, _ in PAPER_FILES.values()}
+    return paths, preferred & set(paths)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--results", default="results", help="folder of the results files")
+    parser.add_argument("files", nargs="*", help="results files (default: those in --results)")
+    parser.add_argument("--results", default="results",
+                        help="folder of the results files (default results/)")
     parser.add_argument("--readme", help="replace the claims table in this README")
     args = parser.parse_args()
-    table = claims_table(args.results)
+    try:
+        roles, _ = assign_roles(*files_of(args))
+        table = claims_table(roles)
+    except (UsageError, ValueError, KeyError, OSError) as error:
+        print(f"claims.py: {error}", file=sys.stderr)
+        return 2
     if not args.readme:
         sys.stdout.write(table)
         return 0

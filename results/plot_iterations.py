@@ -39,7 +39,8 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+# ggk_results from this checkout (python/), installed or not (python/README.md).
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
 from ggk_results import add_format_argument, save, task_of  # noqa: E402
 
 STYLE = {"ggk": ("tab:red", "-", "geodesic (GGK)"), "ogk": ("tab:blue", "--", "ordinary (OGK)")}

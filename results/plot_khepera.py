@@ -40,7 +40,8 @@ from matplotlib import patches  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+# ggk_results from this checkout (python/), installed or not (python/README.md).
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
 from ggk_results import (add_format_argument, curve, error_bars, facet_title, facets,  # noqa: E402
                          legend_below, read_summary, run_group, save)
 

@@ -27,7 +27,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib import patches  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+# ggk_results from this checkout (python/), installed or not (python/README.md).
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
 from ggk_results import run_group  # noqa: E402
 
 

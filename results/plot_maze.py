@@ -14,7 +14,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+# ggk_results from this checkout (python/), installed or not (python/README.md).
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
 from ggk_results import (add_format_argument, curve, error_bars, facet_title, facets,  # noqa: E402
                          legend_below, read_summary, save)
 

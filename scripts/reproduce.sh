@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The paper's figures in one command: runs the jobs (with --resume, so what is
 # already complete is skipped and a killed reproduction continues) and draws
-# every figure, then prints the claims table (ggk info of each results file).
+# every figure, then prints the claims table (ggk info of each results file and
+# results/claims.py).
 #
 #   bash scripts/reproduce.sh            # full scale: maze, arm (Figs. 1-3),
 #                                        # Khepera (Figs. 4-6) and the rotation-step
@@ -44,6 +45,7 @@ if [ $quick = 1 ]; then
   $python results/plot_khepera.py "$dir/khepera.h5" "$figures"
   echo "== claims (reduced: 10 and 4 runs, wide intervals)" >&2
   for f in "$dir/arm.h5" "$dir/khepera.h5"; do "$ggk" info "$f"; echo; done
+  $python results/claims.py --results "$dir"
   echo "reproduce.sh: the reduced reproduction's figures are in $figures/, e.g." \
     "$figures/arm_success.png (paper Fig. 3) and $figures/khepera_return.png (Fig. 6);" \
     "bash scripts/reproduce.sh runs the paper at full scale" >&2

@@ -211,11 +211,23 @@ class Hdf5File {
   // `type` describes the stored type and shape; strings (fixed or variable length,
   // alone or as compound members) are decoded; numbers are their native bytes.
   // Members of a compound type named in `skip_members` are left out.
+  // `parts` says how to read `bytes` and `strings` element by element: a plain
+  // dataset or attribute is one part, a compound one part per member (member
+  // after member, each holding every row's element of that member).
+  // kOther: any other type (enum, bitfield, ...), compared as bytes.
+  enum class ElementClass { kSigned, kUnsigned, kFloat, kString, kOther };
+  struct Part {
+    std::string member;  // empty for a plain dataset or attribute
+    ElementClass element_class = ElementClass::kFloat;
+    std::size_t element_size = 0;  // bytes per element in `bytes`; 0 for strings
+    bool operator==(const Part&) const = default;
+  };
   struct Values {
     std::string type;
     std::vector<std::int64_t> shape;
     std::vector<unsigned char> bytes;  // numbers, row-major, native layout
     std::vector<std::string> strings;  // decoded strings, in element order
+    std::vector<Part> parts;
     bool operator==(const Values&) const = default;
   };
   Values read_values(std::string_view dataset_path,

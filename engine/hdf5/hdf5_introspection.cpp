@@ -24,10 +24,12 @@ using ReadAs = std::function<void(hid_t memory_type, void* buffer)>;
 
 // Appends the elements of one (non-compound) type: numbers as native bytes,
 // strings decoded. `file_type` is the stored type; `count` the element count.
-void append_values(const Context& where, const std::string& path, hid_t file_type,
-                   std::size_t count, const ReadAs& read, Hdf5File::Values& values) {
+void append_values(const Context& where, const std::string& path, const std::string& member,
+                   hid_t file_type, std::size_t count, const ReadAs& read,
+                   Hdf5File::Values& values) {
   const H5T_class_t type_class = H5Tget_class(file_type);
   if (type_class == H5T_STRING) {
+    values.parts.push_back({member, Hdf5File::ElementClass::kString, 0});
     if (H5Tis_variable_str(file_type) > 0) {
       const Handle memory = variable_string_type(where, path);
       std::vector<char*> pointers(count, nullptr);
@@ -56,6 +58,14 @@ void append_values(const Context& where, const std::string& path, hid_t file_typ
   values.bytes.resize(offset + count * size);
   read(memory.get(), values.bytes.data() + offset);
   values.type += describe_type(file_type);
+  Hdf5File::ElementClass element_class = Hdf5File::ElementClass::kOther;
+  if (type_class == H5T_FLOAT) {
+    element_class = Hdf5File::ElementClass::kFloat;
+  } else if (type_class == H5T_INTEGER) {
+    element_class = H5Tget_sign(file_type) == H5T_SGN_NONE ? Hdf5File::ElementClass::kUnsigned
+                                                           : Hdf5File::ElementClass::kSigned;
+  }
+  values.parts.push_back({member, element_class, size});
 }
 
 // The whole canonical form of one dataset or attribute of type `file_type` with
@@ -64,7 +74,7 @@ void read_canonical(const Context& where, const std::string& path, hid_t file_ty
                     std::size_t count, const std::function<void(hid_t, void*)>& read,
                     std::span<const std::string> skip, Hdf5File::Values& values) {
   if (H5Tget_class(file_type) != H5T_COMPOUND) {
-    append_values(where, path, file_type, count, read, values);
+    append_values(where, path, "", file_type, count, read, values);
     return;
   }
   values.type += "{";
@@ -85,7 +95,7 @@ void read_canonical(const Context& where, const std::string& path, hid_t file_ty
             "set up member " + in_quotes(name) + " of", path);
       read(single.get(), buffer);
     };
-    append_values(where, path, member.get(), count, read_member, values);
+    append_values(where, path, name, member.get(), count, read_member, values);
     values.type += ";";
   }
   values.type += "}";

@@ -1,10 +1,14 @@
 #include "engine/store/results_diff.hpp"
 
+#include <fnmatch.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -18,7 +22,6 @@ namespace ggk::engine {
 
 namespace {
 
-constexpr std::size_t kMaxReported = 10;
 const std::array<std::string, 1> kWallClockColumns = {"fit_seconds"};
 
 bool ignored_attribute(const std::string& object, const std::string& name) {
@@ -43,11 +46,37 @@ std::string shown(const Hdf5File::Values& v) {
   return v.type + " value";
 }
 
+// The largest difference over every object, with the object's path.
+struct LargestDifference {
+  double value = 0.0;
+  std::string path;
+  ElementPlace place;
+  std::vector<std::int64_t> shape;
+  bool found = false;
+  void consider(double candidate, const std::string& object, const std::optional<ElementPlace>& at,
+                const std::vector<std::int64_t>& object_shape) {
+    if (!at || (found && !(candidate > value))) return;
+    value = candidate;
+    path = object;
+    place = *at;
+    shape = object_shape;
+    found = true;
+  }
+  std::string text() const {
+    std::ostringstream out;
+    out.precision(2);
+    out << value << " at " << path << " " << element_place(place, shape);
+    return out.str();
+  }
+};
+
 class Comparison {
  public:
-  Comparison(const Hdf5File& a, const Hdf5File& b, std::ostream& out) : a_(a), b_(b), out_(out) {}
+  Comparison(const Hdf5File& a, const Hdf5File& b, const DiffOptions& options, std::ostream& out)
+      : a_(a), b_(b), tolerance_(options.tolerance), exclude_(options.exclude), out_(out) {}
 
   void compare_object(const std::string& path) {
+    if (excluded(path)) return;
     compare_attributes(path);
     const Hdf5File::ObjectKind kind_a = a_.object_kind(path), kind_b = b_.object_kind(path);
     if (kind_a != kind_b) {
@@ -61,7 +90,7 @@ class Comparison {
       if (va.type != vb.type || va.shape != vb.shape) {
         differ(path, "type or shape differs");
       } else if (!(va == vb)) {
-        differ(path, "values differ");
+        compare_values_of(path, va, vb, "values differ");
       }
       return;
     }
@@ -83,6 +112,10 @@ class Comparison {
 
   bool same() const { return differences_ == 0; }
   std::size_t differences() const { return differences_; }
+  std::size_t within_tolerance() const { return within_tolerance_; }
+  std::size_t excluded_count() const { return excluded_; }
+  const LargestDifference& largest_absolute() const { return largest_absolute_; }
+  const LargestDifference& largest_relative() const { return largest_relative_; }
   std::size_t datasets() const { return datasets_; }
   std::size_t attributes() const { return attributes_; }
   const std::vector<std::string>& notes() const { return notes_; }
@@ -104,6 +137,7 @@ class Comparison {
                    [&](const std::string& name, bool in_a, bool in_b) {
                      if (ignored_attribute(path, name)) return;
                      const std::string where = path + " @" + name;
+                     if (excluded(where)) return;
                      if (provenance(path, name)) {
                        const auto value = [&](const Hdf5File& f, bool present) {
                          return present ? shown(f.read_attribute_values(path, name))
@@ -116,26 +150,66 @@ class Comparison {
                      ++attributes_;
                      if (!in_a || !in_b) {
                        differ(where, in_a ? "only in the first file" : "only in the second file");
-                     } else if (!(a_.read_attribute_values(path, name) ==
-                                  b_.read_attribute_values(path, name))) {
-                       differ(where, "attribute differs");
+                     } else {
+                       const Hdf5File::Values va = a_.read_attribute_values(path, name);
+                       const Hdf5File::Values vb = b_.read_attribute_values(path, name);
+                       if (va.type != vb.type || va.shape != vb.shape) {
+                         differ(where, "attribute differs: type or shape");
+                       } else if (!(va == vb)) {
+                         compare_values_of(where, va, vb, "attribute differs");
+                       }
                      }
                    });
   }
 
+  bool excluded(const std::string& printed_path) {
+    for (const std::string& pattern : exclude_) {
+      if (fnmatch(pattern.c_str(), printed_path.c_str(), 0) == 0) {
+        ++excluded_;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Two readings of one type and shape that are not identical: a difference
+  // (printed with its largest differences) unless within the tolerance.
+  void compare_values_of(const std::string& path, const Hdf5File::Values& va,
+                         const Hdf5File::Values& vb, const std::string& what) {
+    const ValuesDifference difference = compare_values(va, vb, tolerance_);
+    largest_absolute_.consider(difference.largest_absolute, path, difference.absolute_at, va.shape);
+    largest_relative_.consider(difference.largest_relative, path, difference.relative_at, va.shape);
+    if (difference.equal()) {
+      ++within_tolerance_;
+    } else {
+      differ(path, what + ": " + describe_difference(difference, va.shape));
+    }
+  }
+
   void differ(const std::string& path, const std::string& why) {
-    if (differences_ < kMaxReported) out_ << "differs: " << path << ": " << why << "\n";
+    out_ << "differs: " << path << ": " << why << "\n";
     ++differences_;
   }
 
   const Hdf5File& a_;
   const Hdf5File& b_;
+  const Tolerance tolerance_;
+  const std::vector<std::string> exclude_;
   std::ostream& out_;
-  std::size_t differences_ = 0, datasets_ = 0, attributes_ = 0;
+  std::size_t differences_ = 0, datasets_ = 0, attributes_ = 0, within_tolerance_ = 0;
+  std::size_t excluded_ = 0;
+  LargestDifference largest_absolute_, largest_relative_;
   std::vector<std::string> notes_;
 };
 
-Hdf5File open_results_file(const std::filesystem::path& path) {
+// "rtol 1e-06, atol 0"
+std::string tolerance_text(const Tolerance& tolerance) {
+  std::ostringstream out;
+  out << "rtol " << tolerance.rtol << ", atol " << tolerance.atol;
+  return out.str();
+}
+
+Hdf5File open_results_file(const std::filesystem::path& path, std::string& task) {
   std::optional<Hdf5File> file;
   try {
     file.emplace(Hdf5File::open_waiting_for_lock(path, true, std::chrono::seconds(10)));
@@ -143,7 +217,7 @@ Hdf5File open_results_file(const std::filesystem::path& path) {
     throw UsageError(e.what());
   }
   try {
-    (void)read_results_header(*file);
+    task = read_results_header(*file).task;
   } catch (const ResultsHeaderError& e) {
     throw UsageError(e.what());
   }
@@ -152,21 +226,48 @@ Hdf5File open_results_file(const std::filesystem::path& path) {
 
 }  // namespace
 
-bool diff_results(const std::filesystem::path& a, const std::filesystem::path& b,
-                  std::ostream& out) {
-  const Hdf5File file_a = open_results_file(a);
-  const Hdf5File file_b = open_results_file(b);
-  Comparison comparison(file_a, file_b, out);
+bool diff_results(const std::filesystem::path& a, const std::filesystem::path& b, std::ostream& out,
+                  const DiffOptions& options) {
+  const Tolerance& tolerance = options.tolerance;
+  for (const double value : {tolerance.rtol, tolerance.atol}) {
+    if (!(value >= 0.0) || !std::isfinite(value)) {
+      std::ostringstream text;
+      text << value;
+      throw UsageError("diff: --rtol and --atol must be finite and >= 0, not " + text.str());
+    }
+  }
+  std::string task_a, task_b;
+  const Hdf5File file_a = open_results_file(a, task_a);
+  const Hdf5File file_b = open_results_file(b, task_b);
+  if (task_a != task_b) {
+    throw UsageError(a.string() + " holds " + task_a + " results and " + b.string() + " " + task_b +
+                     " results: ggk diff compares two files of one task");
+  }
+  Comparison comparison(file_a, file_b, options, out);
   comparison.compare_object("/");
   for (const std::string& note : comparison.notes()) out << "note: " << note << "\n";
+  if (comparison.excluded_count() > 0) {
+    out << "note: " << comparison.excluded_count() << " objects excluded (--exclude)\n";
+  }
+  const std::string largest = comparison.largest_absolute().found
+                                  ? "largest absolute difference " +
+                                        comparison.largest_absolute().text() +
+                                        "; largest relative " + comparison.largest_relative().text()
+                                  : "";
   if (comparison.same()) {
-    out << "same results: " << comparison.datasets() << " datasets and " << comparison.attributes()
+    out << "same results";
+    if (!tolerance.exact()) out << " within " << tolerance_text(tolerance);
+    out << ": " << comparison.datasets() << " datasets and " << comparison.attributes()
         << " attributes equal (wall-clock times and provenance not compared)\n";
-  } else {
-    if (comparison.differences() > kMaxReported) {
-      out << "... and " << comparison.differences() - kMaxReported << " more\n";
+    if (comparison.within_tolerance() > 0) {
+      out << comparison.within_tolerance()
+          << " of them differ bit for bit, within the tolerance: " << largest << "\n";
     }
-    out << "different results: " << comparison.differences() << " of "
+  } else {
+    if (!largest.empty()) out << largest << "\n";
+    out << "different results";
+    if (!tolerance.exact()) out << " beyond " << tolerance_text(tolerance);
+    out << ": " << comparison.differences() << " of "
         << comparison.datasets() + comparison.attributes() << " objects differ\n";
   }
   return comparison.same();

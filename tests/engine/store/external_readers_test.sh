@@ -2,13 +2,13 @@
 # Results files as external tools read them, through the real ggk binary and
 # Debian's h5py, pandas and h5ls. One case per call (tests/CMakeLists.txt):
 #   pandas      the README's pandas one-liner gives str columns that select rows
-#               (df[df.basis == "ggk"]), ggk_results.summary_frame too; strings in
+#               (df[df.basis == "ggk"]), ggk_results.summary_frame too (python/); strings in
 #               tables and attributes are variable-length UTF-8; integer arrays
 #               and flags are integer datasets; fit groups have one stable name;
 #               no /.staging in a finished file; every dataset is documented in
 #               results/README.md
-#   during_run  while a sweep runs, h5py, h5ls and `ggk info` open the file and
-#               see the runs done so far; the job still finishes to the same
+#   during_run  while a sweep runs, h5py, h5ls, `ggk info` and ggk_results.open_results
+#               open the file and see the runs done so far; the job still finishes to the same
 #               results as one nobody read
 # Environment: GGK (the binary), GGK_SOURCE_DIR.
 set -euo pipefail
@@ -39,7 +39,7 @@ JOB
 }
 
 check_pandas() {  # results file
-  GGK_RESULTS=$GGK_SOURCE_DIR/results $python - "$1" "$GGK_SOURCE_DIR/results/README.md" <<'PY'
+  GGK_RESULTS=$GGK_SOURCE_DIR/python $python - "$1" "$GGK_SOURCE_DIR/results/README.md" <<'PY'
 import os, re, sys
 import h5py, numpy as np, pandas as pd
 sys.path.insert(0, os.environ["GGK_RESULTS"])
@@ -89,7 +89,7 @@ PY
 
 # The arm and Khepera files: integer datasets and every dataset documented.
 check_tasks() {  # arm file, khepera file
-  GGK_RESULTS=$GGK_SOURCE_DIR/results $python - "$1" "$2" "$GGK_SOURCE_DIR/results/README.md" <<'PY'
+  GGK_RESULTS=$GGK_SOURCE_DIR/python $python - "$1" "$2" "$GGK_SOURCE_DIR/results/README.md" <<'PY'
 import os, re, sys
 import h5py, numpy as np
 arm, khepera, readme = sys.argv[1], sys.argv[2], open(sys.argv[3]).read()
@@ -170,6 +170,21 @@ with h5py.File(sys.argv[1], "r") as f:
     assert runs, list(f["maze"])
     assert len(f[f"maze/{runs[0]}/fit_metrics"][:]) == 4
 PY
+          # The package reads the complete runs (no summary yet), saying so.
+          retry env GGK_RESULTS="$GGK_SOURCE_DIR/python" $python - "$out" <<'PY' ||
+import os, sys, warnings
+sys.path.insert(0, os.environ["GGK_RESULTS"])
+import ggk_results
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    results = ggk_results.open_results(sys.argv[1])
+if not results.complete:
+    assert any(issubclass(w.category, ggk_results.PartialResultsWarning) for w in caught)
+frame = results.summary()
+assert len(results.runs) >= 1 and len(frame) == 4 * len(results.runs), (results, len(frame))
+assert results.dataset().success_rate.dims[0] == "run"
+PY
+            fail "ggk_results during the run: $(cat "$scratch/retry")"
           seen_partial=$((seen_partial + 1))
         fi
       fi

@@ -37,9 +37,9 @@ class ResultsDiffTest : public JobRunnerTest {
   }
 
   // diff_results(a.h5, b.h5): the verdict and what it printed.
-  std::pair<bool, std::string> diff() const {
+  std::pair<bool, std::string> diff(const DiffOptions& options = {}) const {
     std::ostringstream out;
-    const bool same = diff_results(dir_ / "a.h5", dir_ / "b.h5", out);
+    const bool same = diff_results(dir_ / "a.h5", dir_ / "b.h5", out, options);
     return {same, out.str()};
   }
 
@@ -71,6 +71,74 @@ TEST_F(ResultsDiffTest, AChangedDatasetIsNamed) {
   EXPECT_FALSE(same);
   EXPECT_TRUE(contains(printed, std::string("differs: ") + kWeights + ": values differ"));
   EXPECT_TRUE(contains(printed, "different results: 1 of "));
+}
+
+TEST_F(ResultsDiffTest, ATolerancePassesWhatDiffersByLessAndSaysByHowMuch) {
+  double old_value = 0.0, new_value = 0.0;
+  std::size_t last = 0;
+  {
+    Hdf5File b = Hdf5File::open_read_write(dir_ / "b.h5");
+    std::vector<double> weights = b.read_vector<double>(kWeights);
+    ASSERT_FALSE(weights.empty());
+    last = weights.size() - 1;
+    old_value = weights.back();
+    weights.back() *= 1.0 + 1e-9;
+    new_value = weights.back();
+    b.remove(kWeights);
+    b.write_vector(kWeights, weights);
+    b.flush();
+  }
+  ASSERT_NE(old_value, new_value);
+  // Bit for bit it differs, and the line says where and by how much.
+  const auto [same, printed] = diff();
+  EXPECT_FALSE(same);
+  EXPECT_TRUE(contains(printed, std::string("differs: ") + kWeights + ": values differ: 1 of "))
+      << printed;
+  EXPECT_TRUE(contains(printed, "largest absolute difference ")) << printed;
+  EXPECT_TRUE(contains(printed, " at [" + std::to_string(last) + "]")) << printed;
+  // Within rtol 1e-8 it is the same results, with the difference reported.
+  DiffOptions loose;
+  loose.tolerance.rtol = 1e-8;
+  const auto [same_within, within_text] = diff(loose);
+  EXPECT_TRUE(same_within) << within_text;
+  EXPECT_TRUE(contains(within_text, "same results within rtol 1e-08, atol 0: ")) << within_text;
+  EXPECT_TRUE(contains(within_text,
+                       "1 of them differ bit for bit, within the tolerance: largest "
+                       "absolute difference "))
+      << within_text;
+  EXPECT_TRUE(contains(within_text, std::string(kWeights) + " [" + std::to_string(last) + "]"))
+      << within_text;
+  // rtol 1e-10 is tighter than the change.
+  DiffOptions tight;
+  tight.tolerance.rtol = 1e-10;
+  EXPECT_FALSE(diff(tight).first);
+  // Excluding the dataset leaves nothing that differs.
+  DiffOptions exclude;
+  exclude.exclude = {"*/k_0008_sigma3_brm_*/weights"};
+  const auto [same_excluded, excluded_text] = diff(exclude);
+  EXPECT_TRUE(same_excluded) << excluded_text;
+  EXPECT_TRUE(contains(excluded_text, "objects excluded (--exclude)")) << excluded_text;
+}
+
+TEST_F(ResultsDiffTest, FilesOfTwoTasksAreAUsageErrorNamingBoth) {
+  {
+    Hdf5File b = Hdf5File::open_read_write(dir_ / "b.h5");
+    b.remove_attribute("/", "task");
+    b.write_string_attribute("/", "task", "arm");
+    b.flush();
+  }
+  try {
+    (void)diff();
+    FAIL() << "expected a UsageError";
+  } catch (const UsageError& error) {
+    EXPECT_TRUE(contains(error.what(), (dir_ / "a.h5").string() + " holds maze results"))
+        << error.what();
+    EXPECT_TRUE(contains(error.what(), (dir_ / "b.h5").string() + " arm results")) << error.what();
+  }
+  DiffOptions negative;
+  negative.tolerance.atol = -1.0;
+  fs::copy_file(dir_ / "a.h5", dir_ / "b.h5", fs::copy_options::overwrite_existing);
+  EXPECT_THROW((void)diff(negative), UsageError);
 }
 
 TEST_F(ResultsDiffTest, AChangedAttributeAndAMissingGroupAreNamed) {
