@@ -38,11 +38,14 @@ struct NamedArray {
 };
 
 // What a metric is, which decides the confidence interval `ggk info` gives its
-// mean over runs: a mean (Student's t), or a rate in [0, 1] (Wilson's score
-// interval when every run's value is 0 or 1, a per-run success such as success
-// from A; else Student's t clipped to [0, 1]). Each task declares its metrics'
-// kinds (TaskDefinition::metric_kind).
-enum class MetricKind { kMean, kRate };
+// mean over runs: a mean (Student's t); a rate, one 0/1 outcome per run such as
+// success from A (Wilson's score interval when every run's value is 0 or 1,
+// else Student's t clipped to [0, 1]); or a fraction, a per-run share of
+// episodes or states in [0, 1] such as the Khepera's collision fraction
+// (Student's t over runs clipped to [0, 1], never Wilson: a run is not one
+// trial, and all-zero runs give [0, 0]). Each task declares its metrics' kinds
+// (TaskDefinition::metric_kind); python/ggk_results/intervals.py agrees.
+enum class MetricKind { kMean, kRate, kFraction };
 
 struct FitRecord {
   SweepPoint point;

@@ -114,22 +114,6 @@ Interval clipped_to_rate(Interval ci) {
 // A rate whose values at a point are all 0 or 1 is a per-run success (e.g.
 // success from A): its interval is Wilson's; any other is a mean with Student's
 // t (clipped to [0, 1] for a rate).
-Interval metric_interval(const std::vector<double>& values, MetricKind kind) {
-  if (kind == MetricKind::kRate) {
-    // Wilson's for 0/1 values; Student's t clipped to [0, 1] for fractions.
-    std::int64_t successes = 0, trials = 0;
-    bool binary = true;
-    for (const double v : values) {
-      if (std::isnan(v)) continue;
-      binary = binary && (v == 0.0 || v == 1.0);
-      successes += v == 1.0 ? 1 : 0;
-      ++trials;
-    }
-    if (binary && trials >= 1) return wilson_interval(successes, trials);
-    return clipped_to_rate(mean_interval(values));
-  }
-  return mean_interval(values);
-}
 
 std::string csv_field(const std::string& text) {
   if (text.find_first_of(",\"\n") == std::string::npos) return text;
@@ -374,6 +358,24 @@ void print_info(const std::filesystem::path& path, std::ostream& out, InfoFormat
 }
 
 }  // namespace
+
+Interval metric_interval(std::span<const double> values, MetricKind kind) {
+  if (kind == MetricKind::kRate) {
+    // Wilson's for 0/1 values; Student's t clipped to [0, 1] for fractions.
+    std::int64_t successes = 0, trials = 0;
+    bool binary = true;
+    for (const double v : values) {
+      if (std::isnan(v)) continue;
+      binary = binary && (v == 0.0 || v == 1.0);
+      successes += v == 1.0 ? 1 : 0;
+      ++trials;
+    }
+    if (binary && trials >= 1) return wilson_interval(successes, trials);
+    return clipped_to_rate(mean_interval(values));
+  }
+  if (kind == MetricKind::kFraction) return clipped_to_rate(mean_interval(values));
+  return mean_interval(values);
+}
 
 void print_results_info(const std::filesystem::path& path, std::ostream& out, InfoFormat format,
                         MetricKindLookup metric_kind) {

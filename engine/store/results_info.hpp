@@ -41,5 +41,9 @@ Interval mean_interval(std::span<const double> values);
 // Success rate of `successes` out of `trials` with Wilson's score interval:
 // inside [0, 1], and of non-zero width at 0 % and 100 %.
 Interval wilson_interval(std::int64_t successes, std::int64_t trials);
+// The interval `ggk info` gives a metric of this kind over runs (run_record.hpp:
+// MetricKind): Wilson for a rate whose every value is 0 or 1, Student's t
+// clipped to [0, 1] for other rates and fractions, Student's t for means.
+Interval metric_interval(std::span<const double> values, MetricKind kind);
 
 }  // namespace ggk::engine

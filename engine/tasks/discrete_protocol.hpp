@@ -73,11 +73,12 @@ inline const std::vector<std::string>& discrete_metric_names() {
   return names;
 }
 
-// The rates among them: success_rate, and success_from_<name> of each named
-// start (0 or 1 per fit); the others are means.
+// success_rate is a fraction (of the start states, per run); success_from_<name>
+// of each named start a rate (0 or 1 per fit); the others are means.
 inline MetricKind discrete_metric_kind(std::string_view metric) {
-  return metric == "success_rate" || metric.starts_with("success_from_") ? MetricKind::kRate
-                                                                         : MetricKind::kMean;
+  return metric == "success_rate"              ? MetricKind::kFraction
+         : metric.starts_with("success_from_") ? MetricKind::kRate
+                                               : MetricKind::kMean;
 }
 
 // For every state (row of state_vectors), the nearest visited state (itself when

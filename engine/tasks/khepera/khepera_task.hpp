@@ -43,7 +43,7 @@ inline const std::vector<std::string>& khepera_metric_names() {
 
 // The rate among them: collision_fraction; the others are means.
 inline MetricKind khepera_metric_kind(std::string_view metric) {
-  return metric == "collision_fraction" ? MetricKind::kRate : MetricKind::kMean;
+  return metric == "collision_fraction" ? MetricKind::kFraction : MetricKind::kMean;
 }
 
 RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::int32_t run,

@@ -23,6 +23,24 @@ TEST(ConfidenceIntervals, StudentTMatchesScipy) {
   EXPECT_NEAR(ci.high - ci.estimate, 3.182446 * std::sqrt(5.0 / 3.0) / 2.0, 1e-5);
 }
 
+// A per-run fraction of episodes (the Khepera's collision fraction) is a mean
+// over runs, never Wilson: four runs without a collision give [0, 0], where
+// Wilson, treating each run as one trial, gave [0, 49 %]. A 0/1 outcome per run
+// keeps Wilson.
+TEST(ConfidenceIntervals, AFractionPerRunIsAMeanAndAnOutcomePerRunIsWilson) {
+  const std::vector<double> zeros(4, 0.0);
+  const Interval fraction = metric_interval(zeros, MetricKind::kFraction);
+  EXPECT_EQ(fraction.low, 0.0);
+  EXPECT_EQ(fraction.high, 0.0);
+  const Interval outcome = metric_interval(zeros, MetricKind::kRate);
+  EXPECT_NEAR(outcome.high, 0.4899, 1e-4);  // scipy binomtest(0, 4).proportion_ci("wilson")
+  const std::vector<double> shares = {0.1, 0.3, 0.0, 0.2};
+  const Interval clipped = metric_interval(shares, MetricKind::kFraction);
+  EXPECT_NEAR(clipped.estimate, 0.15, 1e-12);
+  EXPECT_EQ(clipped.low, 0.0);  // t's lower bound, -0.055, clipped
+  EXPECT_NEAR(clipped.high, 0.15 + 3.1824 * std::sqrt(0.0166667 / 4), 1e-3);
+}
+
 TEST(ConfidenceIntervals, WilsonStaysInsideZeroOneAndIsWideAtTheEnds) {
   const Interval none = wilson_interval(0, 30);
   EXPECT_EQ(none.estimate, 0.0);

@@ -20,12 +20,12 @@ TEST(MemoryCheck, EveryTaskEstimatesItsRuns) {
   }
 }
 
-TEST(MetricKind, EachTaskDeclaresItsRates) {
-  EXPECT_EQ(metric_kind("maze", "success_rate"), MetricKind::kRate);
-  EXPECT_EQ(metric_kind("arm", "success_rate"), MetricKind::kRate);
+TEST(MetricKind, EachTaskDeclaresItsRatesAndFractions) {
+  EXPECT_EQ(metric_kind("maze", "success_rate"), MetricKind::kFraction);  // of the states
+  EXPECT_EQ(metric_kind("arm", "success_rate"), MetricKind::kFraction);
   EXPECT_EQ(metric_kind("arm", "success_from_A"), MetricKind::kRate);
   EXPECT_EQ(metric_kind("arm", "steps_from_A"), MetricKind::kMean);
-  EXPECT_EQ(metric_kind("khepera", "collision_fraction"), MetricKind::kRate);
+  EXPECT_EQ(metric_kind("khepera", "collision_fraction"), MetricKind::kFraction);  // of episodes
   EXPECT_EQ(metric_kind("khepera", "mean_return"), MetricKind::kMean);
 }
 
