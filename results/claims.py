@@ -16,9 +16,10 @@ A claim that has no number (a figure the paper shows and describes) says so.
 
 Files are recognised by what they hold, not by name: the arm's task, and the
 Khepera's task with its rotation step (khepera.motion.turn_deg: 15 is the
-paper's job, 30 and 45 the rotation-step study). With --results DIR (default
-results/) the paper's files arm-paper.h5, khepera-paper.h5, khepera-turn30.h5
-and khepera-turn45.h5 are used where present, and any other .h5 file there for
+paper's job, 30 and 45 the rotation-step study: one file holds a step per run
+configuration, jobs/khepera-study.toml). With --results DIR (default results/)
+the paper's files arm-paper.h5, khepera-paper.h5 and khepera-study.h5 are used
+where present (khepera-paper.h5 first for 15 degrees), and any other .h5 file there for
 a role none of them fills (e.g. out/quick/ of scripts/reproduce.sh --quick);
 two files for one role are an error (exit 2) naming both. A file whose job has
 not finished contributes its complete runs (said on stderr).
@@ -43,9 +44,10 @@ import ggk_results  # noqa: E402
 PAPER_FILES = {
     "arm": ("arm-paper.h5", "jobs/arm-paper.toml"),
     "khepera-15": ("khepera-paper.h5", "jobs/khepera-paper.toml"),
-    "khepera-30": ("khepera-turn30.h5", "jobs/khepera-turn30.toml"),
-    "khepera-45": ("khepera-turn45.h5", "jobs/khepera-turn45.toml"),
+    "khepera-30": ("khepera-study.h5", "jobs/khepera-study.toml"),
+    "khepera-45": ("khepera-study.h5", "jobs/khepera-study.toml"),
 }
+TURN_AXIS = "khepera.motion.turn_deg"  # the rotation-step study's axis (jobs/khepera-study.toml)
 DEFAULT_TURN_DEG = 15.0  # jobs/README.md, [khepera.motion] turn_deg
 FIGURE_KERNELS = 128  # the kernel count of Fig. 2 (results/figures/arm_values.png)
 
@@ -54,19 +56,25 @@ class UsageError(Exception):
     pass
 
 
-def role_of(results):
-    """The claims role of an open_results file, or None for another task."""
+def roles_of(results):
+    """[(role, summary frame)] of an open_results file: none for another task;
+    one per rotation step of a study whose axis it is (jobs/khepera-study.toml),
+    each the rows of that step."""
+    frame = results.summary()
     if results.task == "arm":
-        return "arm"
+        return [("arm", frame)]
     if results.task != "khepera":
-        return None
+        return []
+    if TURN_AXIS in frame.columns:
+        return [(f"khepera-{turn:g}", frame[frame[TURN_AXIS] == turn])
+                for turn in sorted(set(frame[TURN_AXIS]))]
     turn = DEFAULT_TURN_DEG
     if "job_resolved" in results.attrs:
-        turn = tomllib.loads(results.attrs["job_resolved"]).get("khepera.motion.turn_deg", turn)
+        turn = tomllib.loads(results.attrs["job_resolved"]).get(TURN_AXIS, turn)
     elif "job" in results.attrs:
         job = tomllib.loads(results.attrs["job"])
         turn = job.get("khepera", {}).get("motion", {}).get("turn_deg", turn)
-    return f"khepera-{turn:g}"
+    return [(f"khepera-{turn:g}", frame)]
 
 
 def load(path):
@@ -85,16 +93,13 @@ def assign_roles(paths, preferred=()):
     file names in --results DIR) fills its role before any other file."""
     roles, sources = {}, {}
     for path in sorted(paths, key=lambda p: (p not in preferred, str(p))):
-        results = load(path)
-        role = role_of(results)
-        if role is None:
-            continue
-        if role in roles:
-            if sources[role] in preferred:
-                continue
-            raise UsageError(f"{sources[role]} and {path} both hold {role} results: "
-                             "give the files to use (claims.py FILE ...)")
-        roles[role], sources[role] = results.summary(), path
+        for role, frame in roles_of(load(path)):
+            if role in roles:
+                if sources[role] in preferred:
+                    continue
+                raise UsageError(f"{sources[role]} and {path} both hold {role} results: "
+                                 "give the files to use (claims.py FILE ...)")
+            roles[role], sources[role] = frame, path
     return roles, sources
 
 

@@ -13,8 +13,11 @@
 
     /usr/bin/python3 results/plot_khepera.py results/khepera-paper.h5 results/figures \
         [--kernels P] [--run R] [--solver S] [--edge-threshold W] [--arena ARENA.toml]
-        [--prefix NAME]
+        [--prefix NAME] [--where KEY=VALUE]
 
+A study's file (jobs/README.md, Studies) shows one run configuration with --where
+(`--where khepera.motion.turn_deg=45`); without it Fig. 6 has a row of panels per
+configuration and the run figures show the first.
 Figs. 5 and the trajectories show one solver (--solver, default brm); Fig. 6 has a
 curve per basis and solver. --prefix replaces "khepera" in the file names.
 
@@ -43,9 +46,10 @@ from matplotlib.lines import Line2D  # noqa: E402
 # ggk_results from this checkout (python/), installed or not (python/README.md).
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
 from ggk_results import (add_format_argument, curve, error_bars, facet_title, facets,  # noqa: E402
-                         legend_below, read_summary, run_group, save)
+                         legend_below, read_summary, run_group, save, select_where)
 
 FORMAT = "png"  # --format: the file type of every figure
+CONFIGURATION = None  # --where: the study's run configuration shown (None: a plain job's runs)
 
 STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)")}
 # Actions of sims/khepera (motion.hpp): symbol and colour as in paper Fig. 5.
@@ -140,7 +144,7 @@ def draw_loadings(ax, coords, loadings):
 
 
 def fig_graph(f, out, run_index, threshold, prefix):
-    run = run_group(f, "khepera", run_index)
+    run = run_group(f, "khepera", run_index, configuration=CONFIGURATION)
     prototypes = run["som/prototypes"][:]
     occupied = run["graph/occupied"][:] > 0
     coords, explained, loadings = pca_layout(prototypes, occupied)
@@ -180,7 +184,7 @@ def fig_policies(f, out, run_index, kernels, solver, prefix):
     # similar readings (the SOM's topology), and the regions of one action show as
     # patches. The bottom row colours the units by action in the PCA plane of
     # Fig. 4(b), to tie those patches to the regions of the graph.
-    run = run_group(f, "khepera", run_index)
+    run = run_group(f, "khepera", run_index, configuration=CONFIGURATION)
     grid = run["som/grid"][:].astype(int)
     prototypes = run["som/prototypes"][:]
     occupied = run["graph/occupied"][:] > 0
@@ -249,8 +253,7 @@ def fig_policies(f, out, run_index, kernels, solver, prefix):
     plt.close(fig)
 
 
-def fig_return(path, out, test_max_steps, prefix):
-    summary = read_summary(path, "khepera")
+def fig_return(summary, out, test_max_steps, prefix):
     runs = len(set(summary["run"]))
     solvers = sorted(set(summary["solver"]))
     # A row of panels per value of every other swept axis (sigma, lambda): no
@@ -346,7 +349,7 @@ def step_actions(trajectory):
 
 
 def fig_trajectories(f, out, run_index, kernels, solver, arena, radius, test_max_steps, prefix):
-    run = run_group(f, "khepera", run_index)
+    run = run_group(f, "khepera", run_index, configuration=CONFIGURATION)
     fig = plt.figure(figsize=(13, 7.2), layout="constrained")
     spec = fig.add_gridspec(2, 2, height_ratios=(1, 0.05))
     axes = [fig.add_subplot(spec[0, c]) for c in range(2)]
@@ -418,15 +421,18 @@ def main():
                         help="arena TOML to draw instead of the job's")
     parser.add_argument("--solver", default=None,
                         help="solver of Fig. 5 and the trajectories (default: brm if swept)")
+    parser.add_argument("--where", action="append", default=[], metavar="KEY=VALUE",
+                        help="a study's file: the run configuration with these values of its "
+                             "axes (e.g. --where khepera.motion.turn_deg=45; repeatable)")
     parser.add_argument("--prefix", default="khepera",
                         help="file names PREFIX_graph.png, ... (default: khepera)")
     add_format_argument(parser)
     args = parser.parse_args()
-    global FORMAT
+    global FORMAT, CONFIGURATION
     FORMAT = args.format
     out = Path(args.out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    summary = read_summary(args.results, "khepera")
+    summary, CONFIGURATION = select_where(read_summary(args.results, "khepera"), args.where)
     kernels = args.kernels
     if kernels is None:
         swept = set(int(k) for k in summary["kernels"])
@@ -444,7 +450,7 @@ def main():
         fig_policies(f, out, args.run, kernels, solver, args.prefix)
         fig_trajectories(f, out, args.run, kernels, solver, arena, radius, test_max_steps,
                          args.prefix)
-    fig_return(args.results, out, test_max_steps, args.prefix)
+    fig_return(summary, out, test_max_steps, args.prefix)
     for name in ("graph", "policies", "return", "trajectories"):
         print(out / f"{args.prefix}_{name}.{args.format}")
 

@@ -6,7 +6,8 @@
 #
 #   bash scripts/reproduce.sh            # full scale: maze, arm (Figs. 1-3),
 #                                        # Khepera (Figs. 4-6) and the rotation-step
-#                                        # study (30, 45 degrees; 45-degree widths),
+#                                        # study (15, 30, 45 degrees in one file;
+#                                        # widths x steps 15 and 45),
 #                                        # the arm's LSPI iterations (stopping rules)
 #                                        # -> results/*.h5, results/figures/
 #   bash scripts/reproduce.sh --quick    # reduced: the paper's arm and Khepera jobs
@@ -57,9 +58,8 @@ mkdir -p "$figures"
 run jobs/maze.toml results/maze.h5 "$@"
 run jobs/arm-paper.toml results/arm-paper.h5 "$@"
 run jobs/khepera-paper.toml results/khepera-paper.h5 "$@"
-run jobs/khepera-turn30.toml results/khepera-turn30.h5 "$@"
-run jobs/khepera-turn45.toml results/khepera-turn45.h5 "$@"
-run jobs/khepera-turn45-widths.toml results/khepera-turn45-widths.h5 "$@"
+run jobs/khepera-study.toml results/khepera-study.h5 "$@"
+run jobs/khepera-widths-study.toml results/khepera-widths-study.h5 "$@"
 # LSPI's stopping rules (README "Why the arm's curve is not monotone"): the arm job
 # with every iteration's policy tested, BRM (as the paper) and LSTD-Q, cap 20 and 100.
 run jobs/arm-paper.toml results/arm-paper-iterations.h5 --set lspi.evaluate_iterations=true "$@"
@@ -71,8 +71,10 @@ run jobs/khepera-paper.toml results/khepera-paper-iterations.h5 --set lspi.evalu
 $python results/plot_maze.py results/maze.h5 "$figures"
 $python results/plot_arm.py results/arm-paper.h5 "$figures" --kernels 128
 $python results/plot_khepera.py results/khepera-paper.h5 "$figures"
-$python results/plot_khepera.py results/khepera-turn30.h5 "$figures" --prefix khepera_turn30
-$python results/plot_khepera.py results/khepera-turn45.h5 "$figures" --prefix khepera_turn45
+for turn in 30 45; do
+  $python results/plot_khepera.py results/khepera-study.h5 "$figures" --prefix khepera_turn$turn \
+    --where khepera.motion.turn_deg=$turn
+done
 for f in arm-paper-iterations arm-paper-lstdq-iterations arm-paper-cap100-iterations \
   khepera-paper-iterations; do
   $python results/plot_iterations.py results/$f.h5 "$figures"
@@ -89,7 +91,7 @@ for extra in results/plot_arm_workspace.py results/plot_khepera_arena.py; do
 done
 echo "== claims" >&2
 for f in results/maze.h5 results/arm-paper.h5 results/khepera-paper.h5 \
-  results/khepera-turn30.h5 results/khepera-turn45.h5 results/khepera-turn45-widths.h5; do
+  results/khepera-study.h5 results/khepera-widths-study.h5; do
   "$ggk" info "$f"
   echo
 done

@@ -142,3 +142,38 @@ def read_summary(path, task=None):
     rows (PartialResultsWarning)."""
     with open_file(path) as f:
         return read_summary_table(f, task or task_of(f)).columns
+
+
+def select_where(columns, where):
+    """The rows of a summary (dict of numpy columns) whose columns equal every
+    KEY=VALUE of `where` (e.g. "khepera.motion.turn_deg=45": one run
+    configuration of a study), and that configuration's index (its
+    `configuration` column's one value; None for a plain job's file or a
+    selection that spans configurations). Exits with a message naming the key
+    or the values when nothing matches."""
+    mask = np.ones(len(columns["run"]), dtype=bool)
+    for condition in where:
+        key, sep, value = condition.partition("=")
+        key, value = key.strip(), value.strip()
+        if not sep or key not in columns:
+            axes = [c for c in columns if "." in c]
+            raise SystemExit(f"--where {condition}: expected KEY=VALUE with KEY a column of the "
+                             f"summary (study axes: {', '.join(axes) or 'none'})")
+        column = columns[key]
+        if column.dtype.kind in "iuf":
+            try:
+                wanted = float(value)
+            except ValueError:
+                raise SystemExit(f"--where {condition}: {key} is a number") from None
+            mask &= column.astype(float) == wanted
+        else:
+            mask &= column.astype(str) == value.strip('"')
+        if not mask.any():
+            values = ", ".join(str(v) for v in sorted(set(column.tolist())))
+            raise SystemExit(f"--where {condition}: no rows (its values: {values})")
+    selected = {name: column[mask] for name, column in columns.items()}
+    configuration = None
+    if "configuration" in selected:
+        found = sorted(set(int(c) for c in selected["configuration"]))
+        configuration = found[0] if len(found) == 1 else None
+    return selected, configuration
