@@ -255,7 +255,7 @@ PolicyTest test_policy(const RunContext& ctx, const SweepPoint& point,
                        const std::vector<std::int32_t>& policy, bool keep_trajectories) {
   const DiscreteEnvironment& env = *ctx.env;
   kernels::RandomStream random = stream_for(ctx.job->seed, ctx.run, Purpose::evaluation,
-                                            static_cast<std::uint32_t>(point.index));
+                                            static_cast<std::uint32_t>(point.evaluation_stream));
   PolicyTest test;
   test.steps.reserve(env.start_states.size());
   double successes = 0.0, step_sum = 0.0;

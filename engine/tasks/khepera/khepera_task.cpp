@@ -233,7 +233,7 @@ EpisodeTest test_episodes(const RunContext& ctx, const SweepPoint& point,
   const khepera::Khepera& robot = *ctx.robot;
   const std::int32_t m = robot.num_actions();
   kernels::RandomStream random = stream_for(ctx.job->seed, ctx.run, Purpose::evaluation,
-                                            static_cast<std::uint32_t>(point.index));
+                                            static_cast<std::uint32_t>(point.evaluation_stream));
   const auto& c = robot.config();
   EpisodeTest test;
   double steps_survived = 0.0;

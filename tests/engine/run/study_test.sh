@@ -122,10 +122,14 @@ PY
   done
   ;;
 stages)
-  "$GGK" run "$job" -j 2 --sweep lspi.max_iterations=3,20 -o "$scratch/fits.h5" 2>"$scratch/err"
+  # Slipping moves: the evaluation draws random numbers, which a variant draws
+  # as the single job with its value does (the point's stream, not the variant's).
+  "$GGK" run "$job" -j 2 --set maze.slip=0.1 --sweep lspi.max_iterations=3,20 \
+    -o "$scratch/fits.h5" 2>"$scratch/err"
   grep -q "3 runs computed, 0 already complete, 24 fits" "$scratch/err" ||
     fail "a fit-level axis computed runs again: $(cat "$scratch/err")"
-  "$GGK" run "$job" -q -j 1 --set lspi.max_iterations=3 -o "$scratch/three.h5" 2>/dev/null
+  "$GGK" run "$job" -q -j 1 --set maze.slip=0.1 --set lspi.max_iterations=3 \
+    -o "$scratch/three.h5" 2>/dev/null
   /usr/bin/python3 - "$scratch/fits.h5" "$scratch/three.h5" <<'PY' || fail "fit-level variants"
 import sys
 import h5py
@@ -145,6 +149,13 @@ with h5py.File(sys.argv[1], "r") as study, h5py.File(sys.argv[2], "r") as single
             theirs = single[f"maze/{run}/fits/ggk/k_{k}_sigma10_brm_lambda1e-06"]
             for name in ("weights", "policy", "history/policy_changes"):
                 assert np.array_equal(ours[name][()], theirs[name][()]), (run, k, name)
+        # Every metric of the variant's rows equals the single job's.
+        ours = study[f"maze/{run}/fit_metrics"][()]
+        ours = ours[ours["lspi.max_iterations"] == 3]
+        theirs = single[f"maze/{run}/fit_metrics"][()]
+        for column in ("basis", "kernels", "status", "success_rate", "mean_steps_to_goal",
+                       "lspi_iterations"):
+            assert np.array_equal(ours[column], theirs[column]), (run, column)
     s = study["maze/summary"]
     assert s.dtype["lspi.max_iterations"].kind == "i" and sorted(set(s["lspi.max_iterations"])) == [3, 20]
 PY
