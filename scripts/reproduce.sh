@@ -10,6 +10,9 @@
 #                                        # widths x steps 15 and 45),
 #                                        # the arm's LSPI iterations (stopping rules)
 #                                        # -> results/*.h5, results/figures/
+#   bash scripts/reproduce.sh --claim-map  # full scale, and the Khepera claim map
+#                                        # (jobs/khepera-claim-map.toml, about 9 minutes
+#                                        # more at -j 2) -> results/figures/khepera_claim_map.png
 #   bash scripts/reproduce.sh --quick    # reduced: the paper's arm and Khepera jobs
 #                                        # with fewer runs and kernel counts (--set),
 #                                        # under 2 minutes on 2 cores
@@ -19,8 +22,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick=0
+claim_map=0
 if [ "${1:-}" = "--quick" ]; then
   quick=1
+  shift
+elif [ "${1:-}" = "--claim-map" ]; then
+  claim_map=1
   shift
 fi
 ggk=${GGK:-build/ggk}  # GGK=path/to/ggk for another build
@@ -89,6 +96,10 @@ for extra in results/plot_arm_workspace.py results/plot_khepera_arena.py; do
     $python "$extra" "$input" "$figures" || echo "reproduce.sh: warning: $extra failed" >&2
   fi
 done
+if [ $claim_map = 1 ]; then
+  run jobs/khepera-claim-map.toml results/khepera-claim-map.h5 "$@"
+  $python results/plot_claim_map.py results/khepera-claim-map.h5 "$figures"
+fi
 echo "== claims" >&2
 for f in results/maze.h5 results/arm-paper.h5 results/khepera-paper.h5 \
   results/khepera-study.h5 results/khepera-widths-study.h5; do
