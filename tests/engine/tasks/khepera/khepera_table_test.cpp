@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <variant>
@@ -17,6 +19,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/job/job_file.hpp"
+#include "engine/job/study.hpp"
 #include "engine/tasks/khepera/khepera_task.hpp"
 #include "engine/tasks/khepera/khepera_test_job.hpp"
 #include "engine/tasks/task_list.hpp"
@@ -607,34 +610,46 @@ TEST_F(ShippedKheperaJob, PaperQuickAndCiJobs) {
     EXPECT_EQ(c.simulator.rewards, p.simulator.rewards);
   }
 
-  // The rotation-step study's jobs differ from the paper job in the rotation step only.
-  for (const auto& [name, degrees] :
-       {std::pair<const char*, double>{"khepera-turn30", 30.0}, {"khepera-turn45", 45.0}}) {
-    SCOPED_TRACE(name);
-    const JobSpec study = load(name);
-    EXPECT_EQ(study.runs, paper.runs);
-    EXPECT_EQ(study.seed, paper.seed);
-    EXPECT_EQ(study.sweep.kernels, paper.sweep.kernels);
-    EXPECT_EQ(study.sweep.solver, paper.sweep.solver);
-    const KheperaTaskConfig& s = khepera_config(study);
-    EXPECT_EQ(s.simulator.motion.turn_deg, degrees);
-    khepera::MotionModel motion = s.simulator.motion;
-    motion.turn_deg = p.simulator.motion.turn_deg;
-    EXPECT_EQ(motion, p.simulator.motion);
-    EXPECT_TRUE(s.simulator.arena.obstacles == p.simulator.arena.obstacles);
-    EXPECT_EQ(s.simulator.arena.start, p.simulator.arena.start);
-    EXPECT_EQ(s.simulator.sensors, p.simulator.sensors);
-    EXPECT_EQ(s.simulator.series, p.simulator.series);
-    EXPECT_EQ(s.simulator.test_episodes, p.simulator.test_episodes);
+  // The study files (jobs/khepera-study.toml, khepera-widths-study.toml, the
+  // claim map): each configuration is the paper job but for its study values
+  // (and the name and output), every key compared by its resolved value.
+  const auto study = [&](const std::string& name) {
+    return load_study(jobs_ / (name + ".toml"), task_tables(), no_output_check());
+  };
+  const std::set<std::string> kNotTheJob = {"name", "output.file"};
+  const auto differs_only_in = [&](const RunConfiguration& configuration,
+                                   std::set<std::string> keys) {
+    keys.insert(kNotTheJob.begin(), kNotTheJob.end());
+    return paper.resolved.difference(configuration.job.resolved, "paper", "study", keys);
+  };
+  const Study rotation = study("khepera-study");
+  ASSERT_EQ(rotation.configurations.size(), 3u);
+  for (std::size_t c = 0; c < 3; ++c) {
+    const RunConfiguration& configuration = rotation.configurations[c];
+    SCOPED_TRACE(configuration.job.configuration_group);
+    EXPECT_EQ(khepera_config(configuration.job).simulator.motion.turn_deg,
+              15.0 * static_cast<double>(c + 1));
+    EXPECT_EQ(differs_only_in(configuration, {"khepera.motion.turn_deg"}), std::nullopt);
   }
-  const JobSpec turn45 = load("khepera-turn45");  // alive as long as t refers into it
-  const KheperaTaskConfig& t = khepera_config(turn45);
+  // The 15-degree configuration is the paper job, key for key.
+  EXPECT_EQ(differs_only_in(rotation.configurations[0], {}), std::nullopt);
 
-  // Its width sweep keeps the 45-degree robot.
-  const JobSpec widths = load("khepera-turn45-widths");
-  EXPECT_EQ(widths.sweep.sigma, (std::vector<double>{250.0, 500.0, 1000.0, 2000.0}));
-  EXPECT_EQ(khepera_config(widths).simulator.motion, t.simulator.motion);
-  EXPECT_TRUE(khepera_config(widths).simulator.arena.obstacles == p.simulator.arena.obstacles);
+  // The widths study: two rotation steps, the widths on the built-in axis.
+  const Study widths = study("khepera-widths-study");
+  ASSERT_EQ(widths.configurations.size(), 2u);
+  EXPECT_EQ(widths.job().sweep.sigma, (std::vector<double>{250.0, 500.0, 1000.0, 2000.0}));
+  EXPECT_EQ(khepera_config(widths.configurations[1].job).simulator.motion.turn_deg, 45.0);
+  EXPECT_TRUE(khepera_config(widths.configurations[1].job).simulator.arena.obstacles ==
+              p.simulator.arena.obstacles);
+
+  // The claim map: 3 steps x 3 noise models, each model at its default level.
+  const Study map = study("khepera-claim-map");
+  ASSERT_EQ(map.configurations.size(), 9u);
+  EXPECT_EQ(map.job().runs, paper.runs);
+  EXPECT_EQ(map.job().seed, paper.seed);
+  EXPECT_EQ(khepera_config(map.configurations[4].job).simulator.motion.turn_deg, 30.0);
+  EXPECT_EQ(khepera_config(map.configurations[0].job).simulator.sensors,
+            p.simulator.sensors);  // 15 degrees, proportional: the paper's sensors
 }
 
 }  // namespace
