@@ -56,10 +56,14 @@ int validate_command(const std::string& job_path, const std::string& output,
   if (!output.empty()) load.output_file = output;
   const engine::Study study = engine::load_study(job_path, engine::task_tables(), load);
   const engine::JobSpec& job = study.job();
-  const engine::JobMemoryEstimate memory = engine::estimate_job_memory(job, 1, 1);
+  // The largest configuration's run (a study's configurations differ in size).
+  engine::JobMemoryEstimate memory = engine::estimate_job_memory(job, 1, 1);
   std::size_t fits = 0;
   for (const engine::RunConfiguration& configuration : study.configurations) {
     fits += engine::expand_points(configuration).size();
+    const engine::JobMemoryEstimate estimate = engine::estimate_job_memory(
+        configuration.job, 1, 1, static_cast<std::int64_t>(configuration.variants.size()));
+    if (estimate.per_run > memory.per_run) memory = estimate;
   }
   if (!study.has_axes()) {
     std::printf("%s: ok (task %s, %d runs x %zu sweep points); about %s of memory per run\n",
@@ -69,7 +73,8 @@ int validate_command(const std::string& job_path, const std::string& output,
   }
   std::printf(
       "%s: ok, a study (task %s, %zu run configurations x %d runs, %zu fits per run "
-      "of every configuration together); about %s of memory per run\n",
+      "of every configuration together); about %s of memory per run of the largest "
+      "configuration\n",
       job_path.c_str(), job.task.c_str(), study.configurations.size(), job.runs, fits,
       engine::format_bytes(memory.per_run).c_str());
   for (const engine::StudyAxis& axis : study.axes) {
