@@ -73,7 +73,13 @@ struct LargestDifference {
 class Comparison {
  public:
   Comparison(const Hdf5File& a, const Hdf5File& b, const DiffOptions& options, std::ostream& out)
-      : a_(a), b_(b), tolerance_(options.tolerance), exclude_(options.exclude), out_(out) {}
+      : a_(a),
+        b_(b),
+        tolerance_(options.tolerance),
+        exclude_(options.exclude),
+        out_(out),
+        meaning_recorded_(a.has_attribute("/", "job_resolved") &&
+                          b.has_attribute("/", "job_resolved")) {}
 
   void compare_object(const std::string& path) {
     if (excluded(path)) return;
@@ -133,33 +139,38 @@ class Comparison {
   }
 
   void compare_attributes(const std::string& path) {
-    for_each_union(a_.attribute_names(path), b_.attribute_names(path),
-                   [&](const std::string& name, bool in_a, bool in_b) {
-                     if (ignored_attribute(path, name)) return;
-                     const std::string where = path + " @" + name;
-                     if (excluded(where)) return;
-                     if (provenance(path, name)) {
-                       const auto value = [&](const Hdf5File& f, bool present) {
-                         return present ? shown(f.read_attribute_values(path, name))
-                                        : std::string("(none)");
-                       };
-                       const std::string va = value(a_, in_a), vb = value(b_, in_b);
-                       if (va != vb) notes_.push_back(name + ": " + va + " vs " + vb);
-                       return;
-                     }
-                     ++attributes_;
-                     if (!in_a || !in_b) {
-                       differ(where, in_a ? "only in the first file" : "only in the second file");
-                     } else {
-                       const Hdf5File::Values va = a_.read_attribute_values(path, name);
-                       const Hdf5File::Values vb = b_.read_attribute_values(path, name);
-                       if (va.type != vb.type || va.shape != vb.shape) {
-                         differ(where, "attribute differs: type or shape");
-                       } else if (!(va == vb)) {
-                         compare_values_of(where, va, vb, "attribute differs");
-                       }
-                     }
-                   });
+    for_each_union(
+        a_.attribute_names(path), b_.attribute_names(path),
+        [&](const std::string& name, bool in_a, bool in_b) {
+          if (ignored_attribute(path, name)) return;
+          const std::string where = path + " @" + name;
+          if (excluded(where)) return;
+          // Where both files record the job's meaning (job_resolved,
+          // compared as a result), its spelling is provenance: the job
+          // text and the options as typed (sigma = [10] or [10.0]).
+          const bool spelling = meaning_recorded_ && path == "/" &&
+                                (name == "job" || name == "job_overrides" || name == "job_sweeps");
+          if (provenance(path, name) || spelling) {
+            const auto value = [&](const Hdf5File& f, bool present) {
+              return present ? shown(f.read_attribute_values(path, name)) : std::string("(none)");
+            };
+            const std::string va = value(a_, in_a), vb = value(b_, in_b);
+            if (va != vb) notes_.push_back(name + ": " + va + " vs " + vb);
+            return;
+          }
+          ++attributes_;
+          if (!in_a || !in_b) {
+            differ(where, in_a ? "only in the first file" : "only in the second file");
+          } else {
+            const Hdf5File::Values va = a_.read_attribute_values(path, name);
+            const Hdf5File::Values vb = b_.read_attribute_values(path, name);
+            if (va.type != vb.type || va.shape != vb.shape) {
+              differ(where, "attribute differs: type or shape");
+            } else if (!(va == vb)) {
+              compare_values_of(where, va, vb, "attribute differs");
+            }
+          }
+        });
   }
 
   bool excluded(const std::string& printed_path) {
@@ -196,6 +207,7 @@ class Comparison {
   const Tolerance tolerance_;
   const std::vector<std::string> exclude_;
   std::ostream& out_;
+  const bool meaning_recorded_;  // both files hold job_resolved
   std::size_t differences_ = 0, datasets_ = 0, attributes_ = 0, within_tolerance_ = 0;
   std::size_t excluded_ = 0;
   LargestDifference largest_absolute_, largest_relative_;

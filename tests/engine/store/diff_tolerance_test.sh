@@ -9,6 +9,8 @@
 #                 history and the job text differ); without the solver's
 #                 diagnostics and the job text they are the same within
 #                 rtol 1e-3, atol 1e-9 (exit 0, saying by how much at most)
+#   respelled     one job spelled two ways (sigma = [10] and [10.0]): the same
+#                 results (exit 0), the spelling noted; another value differs
 #   usage         two files of different tasks, a negative tolerance: exit 2
 # Environment: GGK (the binary), GGK_SOURCE_DIR.
 set -euo pipefail
@@ -87,6 +89,22 @@ PY
     "$a" "$b")" = 1 ] || fail "rtol 1e-12 passed"
   grep -q '^different results beyond rtol 1e-12, atol 0: ' "$scratch/tight" ||
     fail "verdict: $(tail -1 "$scratch/tight")"
+  ;;
+respelled)
+  # The same job spelled two ways (sigma = [10] and [10.0]) holds the same
+  # results: where both files record the job's meaning (job_resolved), the job
+  # text and the options as typed are provenance, noted, not a difference.
+  quick=$GGK_SOURCE_DIR/jobs/quick.toml
+  "$GGK" run "$quick" -q -o "$scratch/a.h5" --set 'sweep.sigma=[10]' || fail "run a"
+  "$GGK" run "$quick" -q -o "$scratch/b.h5" --set 'sweep.sigma=[10.0]' || fail "run b"
+  [ "$(diff_status "$scratch/out" "$scratch/a.h5" "$scratch/b.h5")" = 0 ] ||
+    fail "respelled job: $(cat "$scratch/out")"
+  grep -q "job_overrides: " "$scratch/out" || fail "the spelling is not noted: $(cat "$scratch/out")"
+  # Another value is another job: job_resolved differs.
+  "$GGK" run "$quick" -q -o "$scratch/c.h5" --set 'sweep.sigma=[10.5]' || fail "run c"
+  [ "$(diff_status "$scratch/out" "$scratch/a.h5" "$scratch/c.h5")" = 1 ] ||
+    fail "another sigma: not exit 1"
+  grep -q "^differs: / @job_resolved" "$scratch/out" || fail "job_resolved: $(cat "$scratch/out")"
   ;;
 usage)
   "$GGK" run "$GGK_SOURCE_DIR/jobs/quick.toml" -q -o "$scratch/maze.h5" || fail "maze run"
