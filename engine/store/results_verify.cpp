@@ -126,11 +126,11 @@ std::optional<std::string> shape_problem(const Hdf5File& file, const std::string
       {"basis", ColumnType::kString},   {"kernels", ColumnType::kInt32},
       {"sigma", ColumnType::kFloat64},  {"solver", ColumnType::kString},
       {"lambda", ColumnType::kFloat64}, {"status", ColumnType::kString}};
-  for (const auto& [name, type] : kFixed) {
+  for (const auto& fixed : kFixed) {
     const auto column = std::find_if(columns.begin(), columns.end(),
-                                     [&](const TableColumn& c) { return c.name == name; });
-    if (column == columns.end() || column->type != type) {
-      return table + ": no column '" + name + "' of the type every results file has";
+                                     [&](const TableColumn& c) { return c.name == fixed.first; });
+    if (column == columns.end() || column->type != fixed.second) {
+      return table + ": no column '" + fixed.first + "' of the type every results file has";
     }
   }
   std::size_t fits = 0;
