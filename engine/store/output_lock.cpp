@@ -53,6 +53,23 @@ std::optional<std::string> read_text(const fs::path& path) {
   return std::string{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// What is wrong with the thing at the lock's path when it cannot be a ggk
+// lock file (a directory, a device, a symbolic link to nothing or to one of
+// those); nullopt for a regular file, or when nothing is there any more.
+std::optional<std::string> not_a_lock_file(const fs::path& lock) {
+  struct stat link_status {};
+  if (::lstat(lock.c_str(), &link_status) != 0) return std::nullopt;
+  struct stat status {};
+  if (S_ISLNK(link_status.st_mode)) {
+    if (::stat(lock.c_str(), &status) != 0) return "a symbolic link to nothing";
+    if (S_ISREG(status.st_mode)) return std::nullopt;
+    return S_ISDIR(status.st_mode) ? "a symbolic link to a directory"
+                                   : "a symbolic link to something that is not a file";
+  }
+  if (S_ISREG(link_status.st_mode)) return std::nullopt;
+  return S_ISDIR(link_status.st_mode) ? "a directory" : "not a regular file";
+}
+
 struct Holder {
   std::string host;
   pid_t pid = 0;
@@ -154,6 +171,12 @@ OutputLock OutputLock::acquire(const fs::path& results) {
 
   for (int attempt = 0; attempt < kAttempts; ++attempt) {
     if (create_lock(results, lock, scratch, text)) return OutputLock(lock, text);
+    if (const std::optional<std::string> problem = not_a_lock_file(lock)) {
+      throw UsageError("output " + results.string() + ": its lock path " + lock.string() + " is " +
+                       *problem +
+                       ", not a ggk lock file: remove or rename it (a lock holds no "
+                       "results), or write to another -o");
+    }
     const std::optional<std::string> existing = read_text(lock);
     if (!existing) continue;  // released meanwhile: try again
     const Holder holder = parse_holder(*existing);

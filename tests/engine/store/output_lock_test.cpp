@@ -97,6 +97,30 @@ TEST_F(OutputLockTest, LockFromAnotherHostIsRefusedAndKept) {
   EXPECT_EQ(text_of(lock()), foreign);
 }
 
+// Something at the lock's path that no ggk wrote is named for what it is,
+// exit status 2, and left alone (before: "internal error: basic_filebuf::
+// underflow" for a directory, "other ggk processes keep taking it" for a
+// dangling symbolic link).
+TEST_F(OutputLockTest, ALockPathThatIsNoFileIsNamed) {
+  const auto refusal = [&] {
+    try {
+      (void)OutputLock::acquire(results());
+    } catch (const UsageError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(taken)");
+  };
+  fs::create_directory(lock());
+  EXPECT_NE(refusal().find(lock().string() + " is a directory, not a ggk lock file"),
+            std::string::npos)
+      << refusal();
+  EXPECT_TRUE(fs::is_directory(lock()));
+  fs::remove(lock());
+  fs::create_symlink(dir_ / "nowhere", lock());
+  EXPECT_NE(refusal().find(" is a symbolic link to nothing"), std::string::npos) << refusal();
+  EXPECT_TRUE(fs::is_symlink(lock()));
+}
+
 TEST_F(OutputLockTest, ReleaseNeverRemovesAnotherHoldersLock) {
   OutputLock mine = OutputLock::acquire(results());
   const std::string other =
