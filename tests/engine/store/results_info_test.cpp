@@ -1,9 +1,16 @@
 #include "engine/store/results_info.hpp"
 
 #include <cmath>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "engine/hdf5/hdf5_file.hpp"
+#include "engine/run/job_runner.hpp"
+#include "engine/tasks/task_list.hpp"
+#include "support/determinism_job.hpp"
 
 namespace ggk::engine {
 namespace {
@@ -52,6 +59,26 @@ TEST(ConfidenceIntervals, WilsonStaysInsideZeroOneAndIsWideAtTheEnds) {
   const Interval some = wilson_interval(20, 30);
   EXPECT_NEAR(some.low, 0.48779, 1e-4);
   EXPECT_NEAR(some.high, 0.80774, 1e-4);
+}
+
+// A file may hold any text in an attribute: ggk info prints each on one line
+// of at most 300 characters with its size (an 8 MB `git` was printed whole).
+class ResultsInfoFileTest : public test_support::JobRunnerTest {};
+
+TEST_F(ResultsInfoFileTest, AHugeAttributeIsCutToALine) {
+  const JobSpec job = load_job("job.toml", test_support::determinism_job(dir_ / "out.h5"));
+  run_job(job, test_support::options_for(dir_ / "out.h5"));
+  {
+    Hdf5File file = Hdf5File::open_read_write(dir_ / "out.h5");
+    file.remove_attribute("/", "git");
+    file.write_string_attribute("/", "git", std::string(8'000'000, 'x') + "\nsecond line");
+    file.flush();
+  }
+  std::ostringstream out;
+  print_results_info(dir_ / "out.h5", out, InfoFormat::kText, metric_kind);
+  EXPECT_LT(out.str().size(), 20'000u);
+  EXPECT_NE(out.str().find("... (8000012 bytes))"), std::string::npos) << out.str().substr(0, 600);
+  EXPECT_NE(out.str().find("runs:     3 of 3 complete"), std::string::npos);
 }
 
 }  // namespace
