@@ -228,17 +228,6 @@ Hdf5File open_for_resume(const fs::path& output, std::vector<std::string>& notes
   return open_as_user([&] { return Hdf5File::open_read_write(output); });
 }
 
-// The run-level values of a configuration, for messages: "" for a plain job,
-// else " of configuration 3 (khepera.motion.turn_deg = 45.0)".
-std::string configuration_words(const RunConfiguration& configuration) {
-  if (configuration.job.configuration_group.empty()) return "";
-  std::string values;
-  for (const AxisAssignment& a : configuration.assignments) {
-    values += (values.empty() ? "" : ", ") + a.key + " = " + a.value;
-  }
-  return " of configuration " + std::to_string(configuration.index) + " (" + values + ")";
-}
-
 void write_configuration_group(Hdf5File& file, const RunConfiguration& configuration) {
   const std::string group = "/" + runs_location(configuration.job);
   if (!file.exists(group)) file.create_group(group);
@@ -342,8 +331,8 @@ Hdf5File resume(const Study& study, const RunOptions& options, const fs::path& o
     std::erase_if(kept, [&](std::int32_t run) {
       const std::optional<std::string> damage = verify_run(file, location, run);
       if (!damage) return false;
-      notes.push_back("run " + std::to_string(run) + configuration_words(configuration) + " of " +
-                      output.string() + " is damaged (" + *damage + "): computing it again");
+      notes.push_back(unit_words(study, {configuration.index, run}) + " of " + output.string() +
+                      " is damaged (" + *damage + "): computing it again");
       discard_run(file, location, run);
       return true;
     });

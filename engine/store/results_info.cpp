@@ -15,6 +15,7 @@
 
 #include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/store/one_line.hpp"
 #include "engine/store/results_layout.hpp"
 #include "engine/store/run_store.hpp"
 
@@ -281,29 +282,17 @@ void write_aligned(const std::vector<std::vector<std::string>>& cells, std::ostr
   }
 }
 
-// An attribute's text as one line of at most 300 characters (a file may hold
-// any text there: an 8 MB attribute is not printed whole).
-std::string at_most_a_line(std::string text) {
-  constexpr std::size_t kShown = 300;
-  const std::size_t bytes = text.size();
-  for (char& c : text) {
-    if (c == '\n' || c == '\r') c = ' ';
-  }
-  if (bytes <= kShown) return text;
-  return text.substr(0, kShown) + "... (" + std::to_string(bytes) + " bytes)";
-}
-
 // The file's provenance and runs, then (when there are fits) the totals and a
 // table of the sweep points, each metric as "mean [low, high]" to 4 digits.
 void write_text(const std::filesystem::path& path, const ResultsContents& contents,
                 std::span<const PointSummary> points, std::ostream& out) {
   const ResultsHeader& header = contents.header;
   out << "file:     " << path.string() << "\n"
-      << "job file: " << at_most_a_line(header.job_file) << "\n"
-      << "task:     " << at_most_a_line(header.task) << "\n"
-      << "created:  " << at_most_a_line(header.created) << " by ggk "
-      << at_most_a_line(header.ggk_version) << " (" << at_most_a_line(header.git) << ")\n";
-  if (!header.blas.empty()) out << "blas:     " << at_most_a_line(header.blas) << "\n";
+      << "job file: " << one_line(header.job_file) << "\n"
+      << "task:     " << one_line(header.task) << "\n"
+      << "created:  " << one_line(header.created) << " by ggk " << one_line(header.ggk_version)
+      << " (" << one_line(header.git) << ")\n";
+  if (!header.blas.empty()) out << "blas:     " << one_line(header.blas) << "\n";
   const std::int64_t expected = header.runs * static_cast<std::int64_t>(contents.configurations);
   if (!header.job_overrides.empty() || !header.job_sweeps.empty()) {
     std::string words;
@@ -314,7 +303,7 @@ void write_text(const std::filesystem::path& path, const ResultsContents& conten
     };
     add(header.job_overrides, "--set");
     add(header.job_sweeps, "--sweep");
-    out << "options: " << at_most_a_line(words) << "\n";
+    out << "options: " << one_line(words) << "\n";
   }
   if (contents.configurations > 1) {
     out << "study:    " << contents.configurations << " run configurations x " << header.runs

@@ -42,11 +42,29 @@ std::int64_t int64_at(const Hdf5File& file, std::string_view name, bool required
   });
 }
 
+// The attributes that say which job the file holds (a grown study rewrites them).
+constexpr std::array<const char*, 6> kJobAttributes = {
+    "job", "job_file", "runs", "job_sweeps", "job_overrides", "job_resolved"};
+
+void write_job_attributes(Hdf5File& file, const ResultsHeader& header) {
+  file.write_string_attribute("/", "job", header.job);
+  file.write_string_attribute("/", "job_file", header.job_file);
+  file.write_int64_attribute("/", "runs", header.runs);
+  if (!header.job_sweeps.empty()) {
+    file.write_string_attribute("/", "job_sweeps", header.job_sweeps);
+  }
+  if (!header.job_overrides.empty()) {
+    file.write_string_attribute("/", "job_overrides", header.job_overrides);
+  }
+  if (!header.job_resolved.empty()) {
+    file.write_string_attribute("/", "job_resolved", header.job_resolved);
+  }
+}
+
 }  // namespace
 
 void write_results_header(Hdf5File& file, const ResultsHeader& header) {
-  file.write_string_attribute("/", "job", header.job);
-  file.write_string_attribute("/", "job_file", header.job_file);
+  write_job_attributes(file, header);
   for (const RecordedInput& input : header.inputs) {
     file.write_string_attribute("/", input_attribute_name(input.key), input.text);
   }
@@ -55,37 +73,15 @@ void write_results_header(Hdf5File& file, const ResultsHeader& header) {
   if (!header.blas.empty()) file.write_string_attribute("/", "blas", header.blas);
   file.write_string_attribute("/", "created", header.created);
   file.write_string_attribute("/", "task", header.task);
-  file.write_int64_attribute("/", "runs", header.runs);
-  if (!header.job_sweeps.empty()) {
-    file.write_string_attribute("/", "job_sweeps", header.job_sweeps);
-  }
-  if (!header.job_overrides.empty()) {
-    file.write_string_attribute("/", "job_overrides", header.job_overrides);
-  }
-  if (!header.job_resolved.empty()) {
-    file.write_string_attribute("/", "job_resolved", header.job_resolved);
-  }
   file.write_int64_attribute("/", "layout", header.layout);
   write_runs_selected(file, header.runs_selected);
 }
 
 void rewrite_job_attributes(Hdf5File& file, const ResultsHeader& header) {
-  for (const char* name :
-       {"job", "job_file", "runs", "job_sweeps", "job_overrides", "job_resolved"}) {
+  for (const char* name : kJobAttributes) {
     if (file.has_attribute("/", name)) file.remove_attribute("/", name);
   }
-  file.write_string_attribute("/", "job", header.job);
-  file.write_string_attribute("/", "job_file", header.job_file);
-  file.write_int64_attribute("/", "runs", header.runs);
-  if (!header.job_sweeps.empty()) {
-    file.write_string_attribute("/", "job_sweeps", header.job_sweeps);
-  }
-  if (!header.job_overrides.empty()) {
-    file.write_string_attribute("/", "job_overrides", header.job_overrides);
-  }
-  if (!header.job_resolved.empty()) {
-    file.write_string_attribute("/", "job_resolved", header.job_resolved);
-  }
+  write_job_attributes(file, header);
 }
 
 ResultsHeader read_results_header(const Hdf5File& file) {

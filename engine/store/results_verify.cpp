@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/job/usage_error.hpp"
+#include "engine/store/one_line.hpp"
 #include "engine/store/results_layout.hpp"
 #include "engine/store/run_store.hpp"
 
@@ -17,15 +18,6 @@ namespace ggk::engine {
 namespace {
 
 constexpr std::size_t kShownProblems = 20;
-constexpr std::size_t kReasonLength = 300;
-
-std::string one_line(std::string text) {
-  for (char& c : text) {
-    if (c == '\n') c = ' ';
-  }
-  if (text.size() > kReasonLength) text = text.substr(0, kReasonLength) + "...";
-  return text;
-}
 
 std::string child(const std::string& group, const std::string& name) {
   return group == "/" ? "/" + name : group + "/" + name;
