@@ -87,11 +87,11 @@ std::optional<RunsSelected> selection(const JobSpec& job, const std::optional<Ru
   return RunsSelected{runs->first, runs->last};
 }
 
-// Whether the job grows the file's (more runs, more values of a run-level
-// axis: study.hpp), given that nothing else differs; a UsageError says what a
-// job with fewer would drop.
-bool grows(const ResolvedConfig& recorded, const Study& study, const fs::path& output) {
-  const ResolvedConfig wanted = resolved_of(study);
+// Whether the job (`wanted`: resolved_of(study)) grows the file's (more runs,
+// more values of a run-level axis: study.hpp), given that nothing else
+// differs; a UsageError says what a job with fewer would drop.
+bool grows(const ResolvedConfig& recorded, const ResolvedConfig& wanted, const Study& study,
+           const fs::path& output) {
   bool grown = false;
   const auto number = [](const std::optional<std::string>& text) {
     return text ? std::strtoll(text->c_str(), nullptr, 10) : 0;
@@ -169,9 +169,9 @@ bool check_same_job(const Hdf5File& file, const Study& study, const fs::path& ou
     for (const StudyAxis& axis : study.axes) {
       if (axis.level == StageLevel::kRun) ignored.insert(axis.keys.begin(), axis.keys.end());
     }
-    difference =
-        recorded->difference(resolved_of(study), "the results file", "the job file", ignored);
-    if (!difference) grown = grows(*recorded, study, output);
+    const ResolvedConfig wanted = resolved_of(study);
+    difference = recorded->difference(wanted, "the results file", "the job file", ignored);
+    if (!difference) grown = grows(*recorded, wanted, study, output);
   } else {
     difference = job_difference(header.job, job.source_text);
   }
