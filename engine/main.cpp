@@ -21,6 +21,7 @@
 #include "engine/job/study.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/run/address_space.hpp"
 #include "engine/run/cpu_affinity.hpp"
 #include "engine/run/job_runner.hpp"
 #include "engine/run/memory_check.hpp"
@@ -206,6 +207,8 @@ void check_spelling(const CLI::App& app, int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Under ulimit -v, OpenBLAS's thread pool can spin forever: restart without it.
+  engine::restart_without_blas_pool(argv);
   // Parallelism belongs to oneTBB: no OpenMP teams inside SuiteSparse calls.
   omp_set_num_threads(1);
   // As typed (before an MPI launcher's library may edit argv): the commands

@@ -38,6 +38,17 @@ std::string lapack_library() {
   return realpath(info.dli_fname, resolved) != nullptr ? resolved : info.dli_fname;
 }
 
+int blas_pool_threads() {
+  auto* get_threads = openblas_symbol<int()>("openblas_get_num_threads");
+  auto* get_parallel = openblas_symbol<int()>("openblas_get_parallel");
+  if (get_threads == nullptr || get_parallel == nullptr || get_parallel() != 1) return 0;
+  return get_threads() > 1 ? get_threads() - 1 : 0;
+}
+
+double blas_thread_buffer_bytes() {
+  return openblas_symbol<int()>("openblas_get_parallel") != nullptr ? 128.0 * 1024 * 1024 : 0.0;
+}
+
 BlasInfo blas_info() {
   auto* get_parallel = openblas_symbol<int()>("openblas_get_parallel");
   auto* get_config = openblas_symbol<char*()>("openblas_get_config");

@@ -29,4 +29,17 @@ void use_calling_thread_blas();
 
 BlasInfo blas_info();
 
+// The threads OpenBLAS's pthread build started when it was loaded (its thread
+// pool: OPENBLAS_NUM_THREADS, else the CPUs, less the caller); 0 for another
+// BLAS. Meaningful before use_calling_thread_blas(), which changes what OpenBLAS
+// reports but stops no thread. Each of them takes a level-3 work buffer at start
+// and retries a failed allocation forever (OpenBLAS 0.3.21, memory.c), so under
+// an address-space limit they can spin and keep the process from exiting.
+int blas_pool_threads();
+
+// The address space one thread's first level-3 call reserves for its work buffer
+// (OpenBLAS: BUFFER_SIZE, 128 MiB on x86-64, mapped once per concurrent caller
+// and kept); 0 for another BLAS.
+double blas_thread_buffer_bytes();
+
 }  // namespace ggk::kernels

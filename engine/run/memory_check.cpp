@@ -17,6 +17,7 @@
 
 #include "engine/job/sweep.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/run/address_space.hpp"
 #include "engine/tasks/task_list.hpp"
 
 namespace ggk::engine {
@@ -112,7 +113,7 @@ void take_cgroup(AvailableMemory& available, const fs::path& folder, const char*
 
 }  // namespace
 
-AvailableMemory available_memory() {
+AvailableMemory available_memory(double reserved_address_space) {
   AvailableMemory available;
   if (const auto kib = read_keyed("/proc/meminfo", "MemAvailable")) {
     take_least(available, *kib * 1024.0, "MemAvailable in /proc/meminfo");
@@ -133,10 +134,15 @@ AvailableMemory available_memory() {
   if (::getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
     // /proc/self/statm: the address space in use, in pages.
     const double pages = read_number("/proc/self/statm").value_or(0.0);
-    take_least(
-        available,
-        static_cast<double>(limit.rlim_cur) - pages * static_cast<double>(::sysconf(_SC_PAGESIZE)),
-        "the address-space limit (ulimit -v), less the address space in use");
+    const double in_use = pages * static_cast<double>(::sysconf(_SC_PAGESIZE));
+    take_least(available, static_cast<double>(limit.rlim_cur) - in_use - reserved_address_space,
+               "the address-space limit (ulimit -v) of " +
+                   format_bytes(static_cast<double>(limit.rlim_cur)) + ", less " +
+                   format_bytes(in_use) + " in use" +
+                   (reserved_address_space > 0.0
+                        ? " and " + format_bytes(reserved_address_space) +
+                              " the threads reserve (BLAS buffers, malloc arenas, stacks)"
+                        : std::string()));
   }
   return available;
 }
@@ -200,19 +206,23 @@ JobMemoryEstimate estimate_job_memory(const JobSpec& job, std::int32_t threads, 
 void check_memory(const JobSpec& job, std::int32_t threads, std::int64_t runs, bool ignore,
                   std::int64_t variants) {
   const JobMemoryEstimate estimate = estimate_job_memory(job, threads, runs, variants);
-  const AvailableMemory available = available_memory();
+  // oneTBB starts every thread it may use, each reserving address space.
+  const AvailableMemory available = available_memory(reserved_address_space(threads));
   if (!(estimate.bytes > available.bytes)) return;
   const std::string what = "job '" + job.name + "' needs about " + format_bytes(estimate.bytes) +
                            " of memory, more than the " + format_bytes(available.bytes) +
                            " available (" + available.source + "); most of it: " + estimate.largest;
+  const bool address_space = available.source.find("ulimit -v") != std::string::npos;
   if (ignore) {
-    std::fprintf(stderr, "ggk: note: %s; running it anyway (--ignore-memory-check)\n",
-                 what.c_str());
+    // OpenBLAS retries a failed work-buffer allocation forever (address_space.hpp).
+    std::fprintf(
+        stderr, "ggk: note: %s; running it anyway (--ignore-memory-check)%s\n", what.c_str(),
+        address_space ? ": out of address space, a BLAS call may hang instead of failing" : "");
     return;
   }
-  throw UsageError(what +
-                   ". Make the job smaller (or run fewer threads with -j), or pass "
-                   "--ignore-memory-check to run it anyway");
+  throw UsageError(what + ". Make the job smaller, run fewer threads with -j" +
+                   (address_space ? ", raise the address-space limit (ulimit -v)" : "") +
+                   " or pass --ignore-memory-check to run it anyway");
 }
 
 void check_memory(const JobSpec& job, const RunOptions& options, std::int64_t variants) {

@@ -14,6 +14,8 @@
 //   the run lists (a few int32 per run) and the summary table, which is read
 //   whole at the end (runs x sweep points rows of about 1 KB);
 //   the program itself (libraries, thread stacks, HDF5's caches: 48 MB).
+// Under an address-space limit the threads' reservations count too
+// (reserved_address_space, address_space.hpp).
 
 #include <cstdint>
 #include <limits>
@@ -32,9 +34,10 @@ struct AvailableMemory {
 // The memory this process may still use: the least of /proc/meminfo's
 // MemAvailable; the cgroup's limit (v2 memory.max, v1 memory.limit_in_bytes, the
 // process's group and its ancestors) less its usage, page cache not counted; and
-// the address-space limit (ulimit -v) less the address space in use. Infinite,
-// with an empty source, when none can be read (not Linux).
-AvailableMemory available_memory();
+// the address-space limit (ulimit -v) less the address space in use and
+// `reserved_address_space` (what threads reserve but do not use: address_space.hpp).
+// Infinite, with an empty source, when none can be read (not Linux).
+AvailableMemory available_memory(double reserved_address_space = 0.0);
 
 struct JobMemoryEstimate {
   double bytes = 0.0;    // the job's peak

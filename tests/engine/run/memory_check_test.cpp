@@ -194,5 +194,50 @@ TEST_F(MemoryCheckCli, IgnoreMemoryCheckLetsTheJobPastTheCheck) {
   EXPECT_TRUE(fs::exists(dir_ / "out" / "big.h5"));
 }
 
+// "61.0 MB" at `at` in `text` -> 61e6 (format_bytes' units); NaN when absent.
+double bytes_at(const std::string& text, std::size_t at) {
+  if (at == std::string::npos) return std::nan("");
+  std::size_t used = 0;
+  const double value = std::stod(text.substr(at), &used);
+  const std::string unit = text.substr(at + used + 1, 2);
+  const double scale = unit == "kB" ? 1e3 : unit == "MB" ? 1e6 : unit == "GB" ? 1e9 : 1.0;
+  return value * scale;
+}
+
+TEST_F(MemoryCheckCli, UnderAnAddressSpaceLimitNothingHangsAndWhatPassesRuns) {
+  if (kAddressSanitizer) GTEST_SKIP() << "AddressSanitizer's shadow memory needs the address space";
+  // OpenBLAS's thread pool retries its 128 MiB work buffer forever: under these
+  // limits `validate` never exited and `run` spun after (or instead of) the check.
+  const fs::path job = write_job(maze_job("2", "2", "50"));
+  auto limited = [&](const std::vector<std::string>& args, std::int64_t mib) {
+    return GgkBinaryTest::ggk(args, {.address_space_kib = mib * 1024, .timeout_seconds = 60});
+  };
+  const Outcome validated = limited({"validate", job.string()}, 200);
+  EXPECT_EQ(validated.status, 0) << validated.err;
+
+  // Refused: the threads' reservations are named, nothing is written.
+  const std::int64_t tight = 400;
+  const Outcome refused = limited({"run", job.string(), "-q", "-j", "2"}, tight);
+  ASSERT_EQ(refused.status, kUserError) << refused.err;
+  EXPECT_TRUE(contains(refused.err, "the address-space limit (ulimit -v) of "));
+  EXPECT_TRUE(contains(refused.err, " the threads reserve (BLAS buffers, malloc arenas, stacks)"));
+  EXPECT_TRUE(contains(refused.err, "raise the address-space limit (ulimit -v)"));
+  EXPECT_TRUE(fs::is_empty(dir_ / "out"));
+
+  // The limit the check asks for (what is in use, what the threads reserve and
+  // the job, plus a margin for what the process maps before the check) is
+  // enough to run the job.
+  const std::string& err = refused.err;
+  const std::string needs = "needs about ", less = ", less ", and_ = " in use and ";
+  const double needed = bytes_at(err, err.find(needs) + needs.size());
+  const double in_use = bytes_at(err, err.find(less) + less.size());
+  const double reserved = bytes_at(err, err.find(and_) + and_.size());
+  ASSERT_TRUE(std::isfinite(needed) && std::isfinite(in_use) && std::isfinite(reserved)) << err;
+  const auto enough = static_cast<std::int64_t>((needed + in_use + reserved) / 1048576.0) + 16;
+  const Outcome ran = limited({"run", job.string(), "-q", "-j", "2"}, enough);
+  EXPECT_EQ(ran.status, 0) << "at " << enough << " MiB: " << ran.err;
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "big.h5"));
+}
+
 }  // namespace
 }  // namespace ggk::engine
