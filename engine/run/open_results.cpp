@@ -18,6 +18,8 @@
 #include "engine/job/job_input.hpp"
 #include "engine/job/usage_error.hpp"
 #include "engine/run/job_runner.hpp"
+#include "engine/run/salvage_results.hpp"
+#include "engine/store/one_line.hpp"
 #include "engine/store/results_layout.hpp"
 #include "engine/store/results_verify.hpp"
 #include "engine/store/run_store.hpp"
@@ -338,6 +340,11 @@ Hdf5File resume(const Study& study, const RunOptions& options, const fs::path& o
     });
     complete.push_back(std::move(kept));
   }
+  // Damage outside the runs (the summary, a group's attributes) is not computed
+  // again: the caller salvages the file instead (salvage_results.hpp).
+  if (const std::optional<std::string> damage = verify_beyond_runs(file)) {
+    throw std::runtime_error(*damage);
+  }
   // A resumed file is for the selection it was last run with.
   write_runs_selected(file, selection(study.job(), options.runs));
   file.flush();
@@ -380,6 +387,48 @@ Hdf5File create_new(const Study& study, const RunOptions& options, const fs::pat
   }
   file.flush();
   return file;
+}
+
+// A new file of `study` under `temporary` holding every run of the damaged
+// `output` that reads back whole (salvage_results.hpp).
+Hdf5File salvage(const Study& study, const RunOptions& options, const fs::path& output,
+                 const fs::path& temporary, const std::string& damage,
+                 std::vector<std::vector<std::int32_t>>& complete,
+                 std::vector<std::string>& notes) {
+  const fs::path kept = keep_damaged_aside(output);
+  std::optional<Hdf5File> fresh;
+  SalvageCount count;
+  try {
+    fresh.emplace(create_new(study, options, temporary));
+    try {
+      const Hdf5File damaged = Hdf5File::open_read_only(output);
+      complete = copy_readable_runs(damaged, *fresh, study, count);
+    } catch (const std::runtime_error&) {  // not even its root reads: nothing to copy
+      complete.assign(study.configurations.size(), {});
+      count.lost_lists = static_cast<std::int64_t>(study.configurations.size());
+    }
+    fresh->flush();
+  } catch (...) {
+    ::unlink(kept.c_str());  // the output still holds it
+    throw;
+  }
+  std::string lost;
+  if (count.unreadable > 0) lost += "; " + std::to_string(count.unreadable) + " damaged runs";
+  if (count.lost_lists > 0 && study.configurations.size() == 1) {
+    lost += "; every run, as its list of runs is damaged";
+  } else if (count.lost_lists > 0) {
+    lost += "; every run of " + std::to_string(count.lost_lists) + " of the " +
+            std::to_string(study.configurations.size()) +
+            " run configurations, as their lists of runs are damaged";
+  }
+  notes.push_back(output.string() + " is damaged beyond its runs (" + damage +
+                  "), so it is not resumed in place: its " + std::to_string(count.copied) +
+                  " complete runs that read back whole were copied into a new file, which "
+                  "replaces it with its first write, and the rest is computed again" +
+                  (lost.empty() ? std::string() : " (" + lost.substr(2) + ")") +
+                  ". The damaged file stays as " + kept.string() +
+                  " (delete it when you no longer need it)");
+  return std::move(*fresh);
 }
 
 }  // namespace
@@ -451,9 +500,23 @@ OpenedResults open_results(const Study& study, const RunOptions& options) {
   std::vector<std::string> notes;
   std::optional<ResultsTarget> target;
   std::optional<Hdf5File> file;
+  std::optional<std::string> damage;  // an in-place resume's error, from damage to the file
   if (state == OutputState::kFile && options.resume) {
+    try {
+      file.emplace(resume(study, options, output, complete, notes));
+    } catch (const UsageError&) {
+      throw;
+    } catch (const std::runtime_error& e) {
+      if (!results_damaged(output)) throw;
+      damage = one_line(e.what());
+      complete.clear();
+    }
+  }
+  if (file) {
     target.emplace(output, fs::path(), std::move(lock));
-    file.emplace(resume(study, options, output, complete, notes));
+  } else if (damage) {
+    target.emplace(output, temporary, std::move(lock));  // removes the .part on failure
+    file.emplace(salvage(study, options, output, temporary, *damage, complete, notes));
   } else {
     if (state == OutputState::kFile && !options.overwrite) {
       throw UsageError(

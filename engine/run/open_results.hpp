@@ -15,7 +15,11 @@
 //    as parsed TOML (a comment edit does not matter; a changed key is named),
 //    the input files by content; the runs marked complete are read in full
 //    (every dataset's checksum, verify_run) and a damaged one is computed
-//    again; whatever a killed writer left is discarded;
+//    again; whatever a killed writer left is discarded; a file damaged beyond
+//    its runs (cut short, a damaged summary or group) is not resumed in place:
+//    its whole runs are copied into a new "<output>.part", which replaces it
+//    with its first write, and the damaged file is kept as <stem>.damaged.h5
+//    (salvage_results.hpp);
 //  - an output that exists without --resume or --overwrite, is not a regular
 //    file, or is another job's, is a UsageError (exit status 2) and is left as
 //    it was.

@@ -15,6 +15,8 @@
 
 namespace ggk::engine {
 
+namespace fs = std::filesystem;
+
 namespace {
 
 constexpr std::size_t kShownProblems = 20;
@@ -159,6 +161,18 @@ std::optional<std::string> verify_run(const Hdf5File& file, const std::string& t
   return walk.problems.front();
 }
 
+std::optional<std::string> verify_beyond_runs(const Hdf5File& file) {
+  Walk walk(file);
+  walk.skip = [](const std::string& object) {
+    const std::size_t last = object.rfind('/');
+    if (last == 0) return object.size() > 1 && is_scratch(std::string_view(object).substr(1));
+    return std::string_view(object).substr(last + 1).starts_with("run_");
+  };
+  walk.visit("/");
+  if (walk.problems.empty()) return std::nullopt;
+  return walk.problems.front();
+}
+
 bool verify_results(const std::filesystem::path& path, std::ostream& out) {
   std::optional<Hdf5File> opened;
   try {
@@ -213,7 +227,20 @@ bool verify_results(const std::filesystem::path& path, std::ostream& out) {
   if (walk.problems.size() > kShownProblems) {
     out << "  ... and " << walk.problems.size() - kShownProblems << " more\n";
   }
-  out << "a damaged run is computed again by `ggk run JOB --resume -o " << path.string() << "`\n";
+  const auto outside = std::find_if(
+      walk.problems.begin(), walk.problems.end(),
+      [](const std::string& problem) { return problem.find("/run_") == std::string::npos; });
+  if (outside == walk.problems.end()) {
+    out << "a damaged run is computed again by `ggk run JOB --resume -o " << path.string() << "`\n";
+  } else {
+    const fs::path kept =
+        path.parent_path() / (path.stem().string() + ".damaged" + path.extension().string());
+    out << "the damage is not only in runs (" << outside->substr(0, outside->find(':'))
+        << "): `ggk run JOB --resume -o " << path.string()
+        << "` copies the runs that read back whole into a new file that takes its name, "
+           "computes the rest, and keeps this file as "
+        << kept.string() << "\n";
+  }
   return false;
 }
 

@@ -35,6 +35,12 @@ std::optional<std::string> verify_run(const Hdf5File& file, const std::string& t
 std::optional<std::string> run_shape_problem(const Hdf5File& file, const std::string& task,
                                              std::int32_t run);
 
+// Empty when everything of the file but its runs reads back: the root's and the
+// groups' attributes, the summary, any other object (the writer's /.staging
+// scratch aside); else what failed first. `--resume` checks it once, after each
+// run it keeps: what is damaged there cannot be computed again in place.
+std::optional<std::string> verify_beyond_runs(const Hdf5File& file);
+
 // Reads the whole file (the writer's /.staging scratch aside) and prints the
 // verdict to `out`: counts of datasets and attributes read, runs complete, and
 // each damaged object. Returns true when nothing is damaged. Throws UsageError

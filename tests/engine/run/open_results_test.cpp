@@ -284,5 +284,54 @@ TEST_F(JobRunnerTest, ResumeOfAFileThatIsNotHdf5IsAUsageError) {
   EXPECT_EQ(file_bytes(job.output.file), "not HDF5\n");
 }
 
+// A results file damaged beyond its runs (cut short, or the summary's object
+// header overwritten) is not resumed in place, where every try met the same
+// damage: its runs that read back whole are copied into a new file, the rest
+// is computed, the result equals the whole job's, and the damaged file stays
+// beside it under <stem>.damaged.h5. A second resume then computes nothing.
+TEST_F(JobRunnerTest, ResumeOfAFileDamagedBeyondItsRunsSalvagesItsRuns) {
+  const JobSpec job = load_job("job.toml", determinism_job(dir_ / "unused.h5"));
+  const fs::path reference = dir_ / "reference.h5";
+  run_job(job, options_for(reference));
+  const auto size = static_cast<std::int64_t>(fs::file_size(reference));
+
+  struct Case {
+    std::string name;
+    std::int64_t cut_to;  // bytes kept; 0: the summary's header overwritten instead
+  };
+  for (const Case& c : {Case{"cut_10", size / 10}, Case{"cut_50", size / 2},
+                        Case{"cut_90", size * 9 / 10}, Case{"summary", 0}}) {
+    SCOPED_TRACE(c.name);
+    const fs::path damaged = dir_ / (c.name + ".h5");
+    fs::copy_file(reference, damaged);
+    if (c.cut_to > 0) {
+      fs::resize_file(damaged, static_cast<std::uintmax_t>(c.cut_to));
+    } else {
+      const std::uint64_t header =
+          Hdf5File::open_read_only(damaged).hard_link_address("/maze/summary").value();
+      std::fstream bytes(damaged, std::ios::in | std::ios::out | std::ios::binary);
+      bytes.seekp(static_cast<std::streamoff>(header));
+      const std::string garbage(16, '\xff');
+      bytes.write(garbage.data(), static_cast<std::streamsize>(garbage.size()));
+    }
+    RunOptions resume = options_for(damaged);
+    resume.resume = true;
+    RunSummary summary;
+    ASSERT_NO_THROW(summary = run_job(job, resume));
+    EXPECT_EQ(summary.runs_computed + summary.runs_skipped, 3);
+    if (c.cut_to == 0) {
+      EXPECT_EQ(summary.runs_skipped, 3);  // every run was whole
+    }
+    expect_identical_results(job, reference, damaged);
+    EXPECT_TRUE(fs::exists(dir_ / (c.name + ".damaged.h5")));
+    EXPECT_FALSE(fs::exists(dir_ / (c.name + ".h5.part")));
+
+    const RunSummary again = run_job(job, resume);
+    EXPECT_EQ(again.runs_computed, 0);
+    EXPECT_EQ(again.runs_skipped, 3);
+    EXPECT_FALSE(fs::exists(dir_ / (c.name + ".damaged-2.h5")));
+  }
+}
+
 }  // namespace
 }  // namespace ggk::engine

@@ -1,0 +1,46 @@
+#pragma once
+// Resuming a results file that is damaged beyond its runs: a file cut short (a
+// copy stopped midway, a full disk) or a byte flipped where HDF5 keeps a group's
+// index, the summary or the file's free-space records. `--resume` cannot repair
+// such a file in place (every attempt met the same damage, and a file that grew
+// on each try was seen), so rank 0 of `ggk run` starts a new file under
+// "<output>.part" and copies into it every run of the damaged one that is
+// complete and reads back whole (verify_run); the rest is computed again, and the
+// new file takes the output's name with its first write, as a new file does
+// (open_results.hpp). The damaged file is kept beside it under a new name (a hard
+// link made before anything is written), so nothing it held is lost.
+// Not thread-safe: the caller holds the output's lock.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "engine/hdf5/hdf5_file.hpp"
+#include "engine/job/study.hpp"
+
+namespace ggk::engine {
+
+// Whether the whole-file check (verify_results) finds damage in `output`, or
+// cannot read it at all: an error of an in-place resume then comes from the
+// damage, not from the disk or the job.
+bool results_damaged(const std::filesystem::path& output);
+
+// Links `output` under "<stem>.damaged.h5" (or "<stem>.damaged-N.h5", N < 100, the
+// first free name) in its folder and returns that path. Throws UsageError naming
+// both when no link can be made (a file system without hard links).
+std::filesystem::path keep_damaged_aside(const std::filesystem::path& output);
+
+// Copies into `fresh` (a new file of `study`, groups of its configurations made)
+// every run of `damaged` that is complete and reads back whole, configuration by
+// configuration; returns the copied runs' ids per configuration, ascending. A run
+// or a configuration's run list that cannot be read is left out and counted in
+// `unreadable` (runs) and `lost_lists` (configurations whose list of runs could
+// not be read: all their runs are computed again).
+struct SalvageCount {
+  std::int64_t copied = 0, unreadable = 0, lost_lists = 0;
+};
+std::vector<std::vector<std::int32_t>> copy_readable_runs(const Hdf5File& damaged, Hdf5File& fresh,
+                                                          const Study& study, SalvageCount& count);
+
+}  // namespace ggk::engine
