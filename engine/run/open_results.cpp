@@ -421,8 +421,8 @@ Hdf5File salvage(const Study& study, const RunOptions& options, const fs::path& 
             std::to_string(study.configurations.size()) +
             " run configurations, as their lists of runs are damaged";
   }
-  notes.push_back(output.string() + " is damaged beyond its runs (" + damage +
-                  "), so it is not resumed in place: its " + std::to_string(count.copied) +
+  notes.push_back(output.string() + " cannot be resumed in place (" + damage + "): its " +
+                  std::to_string(count.copied) +
                   " complete runs that read back whole were copied into a new file, which "
                   "replaces it with its first write, and the rest is computed again" +
                   (lost.empty() ? std::string() : " (" + lost.substr(2) + ")") +
@@ -500,14 +500,14 @@ OpenedResults open_results(const Study& study, const RunOptions& options) {
   std::vector<std::string> notes;
   std::optional<ResultsTarget> target;
   std::optional<Hdf5File> file;
-  std::optional<std::string> damage;  // an in-place resume's error, from damage to the file
+  std::optional<std::string> damage;  // why the file cannot be resumed in place
   if (state == OutputState::kFile && options.resume) {
     try {
       file.emplace(resume(study, options, output, complete, notes));
     } catch (const UsageError&) {
       throw;
     } catch (const std::runtime_error& e) {
-      if (!results_damaged(output)) throw;
+      if (machine_error(e.what())) throw;
       damage = one_line(e.what());
       complete.clear();
     }

@@ -4,7 +4,6 @@
 
 #include <cerrno>
 #include <cstring>
-#include <sstream>
 #include <stdexcept>
 
 #include "engine/job/usage_error.hpp"
@@ -15,13 +14,12 @@ namespace ggk::engine {
 
 namespace fs = std::filesystem;
 
-bool results_damaged(const fs::path& output) {
-  std::ostringstream ignored;
-  try {
-    return !verify_results(output, ignored);
-  } catch (const std::runtime_error&) {  // unreadable, or no longer a results file
-    return true;
+bool machine_error(const std::string& message) {
+  for (const char* cause : {"No space left on device", "File too large", "no room to write",
+                            "Permission denied", "Read-only file system", "Disk quota exceeded"}) {
+    if (message.find(cause) != std::string::npos) return true;
   }
+  return false;
 }
 
 fs::path keep_damaged_aside(const fs::path& output) {

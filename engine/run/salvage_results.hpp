@@ -1,9 +1,11 @@
 #pragma once
 // Resuming a results file that is damaged beyond its runs: a file cut short (a
-// copy stopped midway, a full disk) or a byte flipped where HDF5 keeps a group's
-// index, the summary or the file's free-space records. `--resume` cannot repair
-// such a file in place (every attempt met the same damage, and a file that grew
-// on each try was seen), so rank 0 of `ggk run` starts a new file under
+// copy stopped midway, a full disk), a byte flipped where HDF5 keeps a group's
+// index or the summary, or a group whose records point past the file's end (a
+// write that failed on a full disk). `--resume` cannot repair such a file in
+// place (every attempt met the same damage, and a file that grew on each try
+// was seen), so when the in-place resume fails for any reason but the machine
+// (machine_error), rank 0 of `ggk run` starts a new file under
 // "<output>.part" and copies into it every run of the damaged one that is
 // complete and reads back whole (verify_run); the rest is computed again, and the
 // new file takes the output's name with its first write, as a new file does
@@ -21,10 +23,10 @@
 
 namespace ggk::engine {
 
-// Whether the whole-file check (verify_results) finds damage in `output`, or
-// cannot read it at all: an error of an in-place resume then comes from the
-// damage, not from the disk or the job.
-bool results_damaged(const std::filesystem::path& output);
+// Whether an error of an in-place resume comes from the machine (no room, a
+// file size limit, permissions, a read-only file system, a quota) rather than
+// from the file: then a new file would meet it too, and it is reported as is.
+bool machine_error(const std::string& message);
 
 // Links `output` under "<stem>.damaged.h5" (or "<stem>.damaged-N.h5", N < 100, the
 // first free name) in its folder and returns that path. Throws UsageError naming

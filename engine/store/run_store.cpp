@@ -190,29 +190,41 @@ std::vector<std::string> metric_names_of(const RunRecord& record) {
   return names;
 }
 
-// Unlinks the object at `path` and frees its space; if it cannot be read well
-// enough to be freed (damaged by a kill or a full disk), detaches it instead
-// (its space stays unused); if it cannot even be opened, moves its link out of
-// the way to a scratch name of the root ("/.staging_discarded_N", which
-// readers skip), touching only the link.
-void drop(Hdf5File& file, const std::string& path) {
-  try {
-    file.remove(path);
-    return;
-  } catch (const std::runtime_error&) {
-  }
+// Takes `path` out of the file's tree as far as it can without reading below
+// it: detached (one reference kept, so HDF5 never walks or frees what is below:
+// its space stays unused), or if not even its header reads, its link moved to a
+// scratch name of the root ("/.staging_discarded_N", which readers skip),
+// touching only the link. For what a failed or killed writer left, and damaged
+// runs: freeing such an object reads its damaged B-trees and heaps, and after
+// a full disk that fed HDF5's free-space manager sections it then failed on
+// ("can't find section node on size list": the first resume failed).
+void abandon(Hdf5File& file, const std::string& path) {
   try {
     file.detach(path);
     return;
   } catch (const std::runtime_error&) {
   }
-  for (int n = 0;; ++n) {
+  constexpr int kMaxAside = 100000;
+  for (int n = 0; n < kMaxAside; ++n) {
     const std::string aside = kStagingRoot + "_discarded_" + std::to_string(n);
     if (!file.exists(aside)) {
       file.move(path, aside);
       return;
     }
   }
+  throw std::runtime_error(path + " cannot be set aside: " + std::to_string(kMaxAside) +
+                           " damaged objects are set aside already");
+}
+
+// Unlinks this session's own scratch at `path` and frees its space; abandons it
+// when it cannot be freed.
+void drop(Hdf5File& file, const std::string& path) {
+  try {
+    file.remove(path);
+    return;
+  } catch (const std::runtime_error&) {
+  }
+  abandon(file, path);
 }
 
 // Room a commit may need beyond the raw bytes of its data: object headers,
@@ -249,11 +261,11 @@ std::uint64_t run_bytes_bound(const JobSpec& job, const RunRecord& record) {
   return bytes + kCommitOverhead;
 }
 
-// Drops an earlier, incomplete copy of a run and whatever a killed writer left
-// at its staging path (which may be damaged, so it is not read).
+// Abandons an earlier, incomplete copy of a run and whatever a killed writer
+// left at its staging path (either may be damaged, so neither is read).
 void clear_run_slots(Hdf5File& file, const std::string& group, const std::string& staging) {
-  if (file.exists(group)) file.remove(group);
-  if (file.exists(staging)) drop(file, staging);
+  if (file.exists(group)) abandon(file, group);
+  if (file.exists(staging)) abandon(file, staging);
 }
 
 }  // namespace
@@ -393,12 +405,7 @@ bool run_is_complete(const Hdf5File& file, const std::string& task, std::int32_t
 }
 
 void discard_run(Hdf5File& file, const std::string& task, std::int32_t run) {
-  // Moving a link reads nothing of the object, which may be damaged; the
-  // staging group it goes to is dropped whole (drop_staging).
-  const std::string group = run_group(task, run);
-  const std::string discarded = kStagingRoot + "/discarded" + group;
-  if (file.exists(discarded)) drop(file, discarded);
-  file.move(group, discarded);
+  abandon(file, run_group(task, run));  // damaged: nothing below it is read or freed
   file.flush();
 }
 
@@ -431,15 +438,16 @@ std::vector<std::int32_t> complete_runs(const Hdf5File& file, const std::string&
 }
 
 std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job) {
-  // Whatever a killed writer left under the staging path may be damaged.
-  drop_staging(file);
+  // Whatever a killed writer left (its staging group, a run not marked
+  // complete) may be damaged: abandoned, never read.
+  if (file.exists(kStagingRoot)) abandon(file, kStagingRoot);
   std::vector<std::int32_t> complete;
   const std::string location = runs_location(job);
   for (const std::int32_t run : stored_runs(file, location, job.runs)) {
     if (run_is_complete(file, location, run)) {
       complete.push_back(run);
     } else {
-      file.remove(run_group(location, run));
+      abandon(file, run_group(location, run));
     }
   }
   file.flush();

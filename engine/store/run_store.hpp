@@ -89,15 +89,16 @@ std::vector<std::int32_t> stored_runs(const Hdf5File& file, const std::string& t
 std::vector<std::int32_t> complete_runs(const Hdf5File& file, const std::string& task,
                                         std::int32_t runs);
 
-// Detaches the staging groups and removes incomplete runs; returns the ids of the
+// Abandons (detaches without reading or freeing) what a killed or failed writer
+// left: the staging groups and runs not marked complete; returns the ids of the
 // complete ones.
 std::vector<std::int32_t> prepare_for_resume(Hdf5File& file, const JobSpec& job);
 
-// Takes a (damaged) run out of the results without reading it: its link moves
-// under the staging group, which drop_staging() frees (or detaches).
+// Takes a (damaged) run out of the results without reading below it: detached,
+// its space left unused (or, if its header does not read, its link moved aside).
 void discard_run(Hdf5File& file, const std::string& task, std::int32_t run);
 
-// Removes the whole staging group (scratch of finished writes, discarded runs).
+// Removes the whole staging group (this session's scratch of finished writes).
 void drop_staging(Hdf5File& file);
 
 // (Re)writes /<task>/summary from the fit_metrics of every complete run, staged

@@ -13,6 +13,11 @@
 #   full_disk      the file size limited (ulimit -f) at 12 points of a job: every
 #                  attempt fails cleanly (exit 1, no crash) or succeeds, and
 #                  --resume with room again finishes to the reference results
+#   disk_filled    a real file system (a 3-file tmpfs; root only, else skipped)
+#                  filled by another process while ggk writes, at 8 moments:
+#                  the first --resume with room again finishes to the reference
+#                  results (it failed in 6 of 10 tries: freeing the failed
+#                  write's leftovers fed HDF5's free-space manager bad sections)
 #   empty_file     --resume on the 0-byte file of a ggk killed at birth starts it
 #   damage         bytes of a finished file overwritten: ggk verify names the
 #                  damage (exit 1), --resume recomputes the damaged run
@@ -193,6 +198,46 @@ full_disk)
   "$GGK" diff "$scratch/reference.h5" "$scratch/summary.h5" >/dev/null || fail "summary differs"
   echo "full disk: $failures clean failures, $successes successes, $crashes crashes"
   [ $failures -ge 6 ] || fail "the limits did not bite ($failures failures)"
+  ;;
+disk_filled)
+  [ "$(id -u)" = 0 ] || { echo "SKIP: mounting a tmpfs needs root"; exit 77; }
+  write_job "$scratch/job.toml" 4
+  reference "$scratch/job.toml" "$scratch/reference.h5"
+  full=$(stat -c %s "$scratch/reference.h5")
+  disk=$scratch/disk
+  mkdir "$disk"
+  mount -t tmpfs -o size=$((full * 3 / 1024 + 64))k tmpfs "$disk" 2>/dev/null ||
+    { echo "SKIP: cannot mount a tmpfs here"; exit 77; }
+  trap 'umount "$disk" 2>/dev/null; rm -rf "$scratch"' EXIT
+  start=$(date +%s%N)
+  "$GGK" run "$scratch/job.toml" -j 1 -q -o "$disk/timing.h5" 2>/dev/null
+  took_ms=$((($(date +%s%N) - start) / 1000000))
+  rm -f "$disk/timing.h5"
+  filled=0
+  for eighth in 1 2 3 4 5 6 7 8; do
+    out=$disk/r.h5
+    rm -f "$disk"/*
+    "$GGK" run "$scratch/job.toml" -j 1 -q -o "$out" 2>"$scratch/err" &
+    pid=$!
+    sleep "$(awk -v t="$took_ms" -v e="$eighth" 'BEGIN { printf "%.3f", t * e / 9000 }')"
+    dd if=/dev/zero of="$disk/filler" bs=64k 2>/dev/null || true
+    s=0
+    wait $pid || s=$?
+    rm -f "$disk/filler"
+    [ "$s" = 0 ] || [ "$s" = 1 ] || fail "moment $eighth: exit status $s: $(cat "$scratch/err")"
+    [ "$s" = 1 ] && filled=$((filled + 1))
+    if [ -e "$out" ]; then
+      "$GGK" run "$scratch/job.toml" -j 2 -q --resume -o "$out" 2>"$scratch/err" ||
+        fail "moment $eighth: the first --resume with room again failed: $(cat "$scratch/err")"
+    else
+      "$GGK" run "$scratch/job.toml" -j 2 -q -o "$out" 2>"$scratch/err" ||
+        fail "moment $eighth: a fresh run failed: $(cat "$scratch/err")"
+    fi
+    "$GGK" diff "$scratch/reference.h5" "$out" >/dev/null || fail "moment $eighth: results differ"
+    "$GGK" verify "$out" >/dev/null || fail "moment $eighth: damaged"
+  done
+  echo "disk filled: $filled of 8 writes failed, every first resume finished"
+  [ $filled -ge 3 ] || fail "the filler did not bite ($filled failures)"
   ;;
 empty_file)
   write_job "$scratch/job.toml" 2
