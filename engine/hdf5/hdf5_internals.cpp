@@ -18,6 +18,23 @@ herr_t collect_error_description(unsigned /*depth*/, const H5E_error2_t* error, 
   return 0;
 }
 
+// HDF5's file drivers describe a failed system call with everything they know
+// ("file write failed: time = ..., filename = '<the name the file was opened
+// under>', file descriptor = 3, errno = 28, error message = 'No space left on
+// device', buf = 0x..., total write size = ..."): the name may be one the file
+// no longer has (a .part renamed into place) and the rest is noise to a user.
+// Such a description becomes "file write failed: No space left on device".
+std::string plain_system_error(const std::string& description) {
+  const std::string marker = "error message = '";
+  const std::size_t message = description.find(marker);
+  const std::size_t fields = description.find(": time = ");
+  if (message == std::string::npos || fields == std::string::npos) return description;
+  const std::size_t start = message + marker.size();
+  const std::size_t end = description.find('\'', start);
+  if (end == std::string::npos) return description;
+  return description.substr(0, fields) + ": " + description.substr(start, end - start);
+}
+
 std::string file_prefix(const fs::path& file) {
   return "HDF5 file " + in_quotes(file.string());
 }
@@ -40,7 +57,7 @@ std::string take_hdf5_reason() {
   H5Eclear2(H5E_DEFAULT);
   if (descriptions.empty()) return "HDF5 gave no reason";
   std::string reason = descriptions.front();
-  if (descriptions.size() > 1) reason += ": " + descriptions.back();
+  if (descriptions.size() > 1) reason += ": " + plain_system_error(descriptions.back());
   std::replace(reason.begin(), reason.end(), '\n', ' ');
   return reason;
 }

@@ -225,7 +225,15 @@ disk_filled)
     wait $pid || s=$?
     rm -f "$disk/filler"
     [ "$s" = 0 ] || [ "$s" = 1 ] || fail "moment $eighth: exit status $s: $(cat "$scratch/err")"
-    [ "$s" = 1 ] && filled=$((filled + 1))
+    if [ "$s" = 1 ]; then
+      filled=$((filled + 1))
+      # One plain reason, not HDF5's dump of the write (which named OUT.part
+      # after the rename, a file descriptor, a buffer address).
+      grep -q "No space left on device\|no room to write" "$scratch/err" ||
+        fail "moment $eighth: no reason given: $(cat "$scratch/err")"
+      ! grep -q "file descriptor = \|\.part'" "$scratch/err" ||
+        fail "moment $eighth: a raw HDF5 dump: $(cat "$scratch/err")"
+    fi
     if [ -e "$out" ]; then
       "$GGK" run "$scratch/job.toml" -j 2 -q --resume -o "$out" 2>"$scratch/err" ||
         fail "moment $eighth: the first --resume with room again failed: $(cat "$scratch/err")"
