@@ -73,7 +73,13 @@ namespace {
 std::string file_problem(const fs::path& path) {
   std::error_code error;
   const fs::file_status status = fs::status(path, error);
-  if (!fs::exists(status)) return " (no such file)";
+  if (error && error != std::errc::no_such_file_or_directory) {
+    return " (" + error.message() + ")";  // a symbolic link loop, a folder not searchable
+  }
+  if (!fs::exists(status)) {
+    return fs::is_symlink(fs::symlink_status(path, error)) ? " (a symbolic link to no file)"
+                                                           : " (no such file)";
+  }
   if (fs::is_directory(status)) return " (it is a directory)";
   const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
   H5Eclear2(H5E_DEFAULT);

@@ -23,11 +23,13 @@ herr_t collect_error_description(unsigned /*depth*/, const H5E_error2_t* error, 
 // under>', file descriptor = 3, errno = 28, error message = 'No space left on
 // device', buf = 0x..., total write size = ..."): the name may be one the file
 // no longer has (a .part renamed into place) and the rest is noise to a user.
-// Such a description becomes "file write failed: No space left on device".
+// Such a description becomes "file write failed: No space left on device"; an
+// open's ("unable to open file: name = '...', errno = 40, error message = '...',
+// flags = 0, o_flags = 0") likewise.
 std::string plain_system_error(const std::string& description) {
   const std::string marker = "error message = '";
   const std::size_t message = description.find(marker);
-  const std::size_t fields = description.find(": time = ");
+  const std::size_t fields = std::min(description.find(": time = "), description.find(": name = "));
   if (message == std::string::npos || fields == std::string::npos) return description;
   const std::size_t start = message + marker.size();
   const std::size_t end = description.find('\'', start);
@@ -57,7 +59,10 @@ std::string take_hdf5_reason() {
   H5Eclear2(H5E_DEFAULT);
   if (descriptions.empty()) return "HDF5 gave no reason";
   std::string reason = descriptions.front();
-  if (descriptions.size() > 1) reason += ": " + plain_system_error(descriptions.back());
+  if (descriptions.size() > 1) {
+    const std::string innermost = plain_system_error(descriptions.back());
+    reason = innermost.starts_with(reason + ":") ? innermost : reason + ": " + innermost;
+  }
   std::replace(reason.begin(), reason.end(), '\n', ' ');
   return reason;
 }

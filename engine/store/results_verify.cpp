@@ -178,8 +178,11 @@ bool verify_results(const std::filesystem::path& path, std::ostream& out) {
   try {
     opened.emplace(Hdf5File::open_waiting_for_lock(path, true, std::chrono::seconds(10)));
   } catch (const std::exception& e) {
+    std::error_code error;
     throw UsageError(std::string(e.what()) +
-                     " (if it is a results file, its first bytes are damaged)");
+                     (fs::is_regular_file(path, error)
+                          ? " (if it is a results file, its first bytes are damaged)"
+                          : ""));
   }
   const Hdf5File& file = *opened;
   Walk walk(file);

@@ -400,8 +400,12 @@ void write_run_image(Hdf5File& file, const JobSpec& job, std::int32_t run,
 
 bool run_is_complete(const Hdf5File& file, const std::string& task, std::int32_t run) {
   const std::string group = run_group(task, run);
-  return file.exists(group) && file.has_attribute(group, "complete") &&
-         file.read_int64_attribute(group, "complete") == 1;
+  if (!file.exists(group) || !file.has_attribute(group, "complete")) return false;
+  try {
+    return file.read_int64_attribute(group, "complete") == 1;
+  } catch (const std::runtime_error&) {  // not the integer write_run sets: never marked
+    return false;
+  }
 }
 
 void discard_run(Hdf5File& file, const std::string& task, std::int32_t run) {
