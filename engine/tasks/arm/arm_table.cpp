@@ -12,6 +12,7 @@
 
 #include "engine/job/kernel_width.hpp"
 #include "engine/job/task_table.hpp"
+#include "engine/job/walk_sizes.hpp"
 #include "sims/arm/arm.hpp"
 
 namespace ggk::engine {
@@ -29,7 +30,6 @@ constexpr std::array<std::string_view, 5> kObstacleKeys = {"kind", "min", "max",
 constexpr std::array<std::string_view, 2> kObstacleKinds = {"rectangle", "disc"};
 constexpr std::array<std::string_view, 3> kRectangleKeys = {"kind", "min", "max"};
 constexpr std::array<std::string_view, 3> kDiscKeys = {"kind", "center", "radius"};
-constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
 
 // The two elements of an [a, b] array, or a JobError at the key. `what` names
 // the elements ("numbers [x, y]").
@@ -237,19 +237,11 @@ arm::ArmConfig parse_arm_table(const TomlTableReader& job) {
   if (!object) table->fail("object", "required table [arm.object] is missing");
   geometry.object = {point(*object, "center"), object->number("radius", NumberRange::above(0.0))};
 
-  config.series =
-      static_cast<std::int32_t>(table->integer("series", {1, kInt32Max}, config.series));
-  config.steps_per_series = static_cast<std::int32_t>(
-      table->integer("steps_per_series", {1, kInt32Max}, config.steps_per_series));
+  const WalkSizes walks = read_walk_sizes(*table, {config.series, config.steps_per_series});
+  config.series = walks.series;
+  config.steps_per_series = walks.steps_per_series;
   config.test_max_steps = static_cast<std::int32_t>(
       table->integer("test_max_steps", kTestMaxStepsRange, config.test_max_steps));
-  // Sample ids are 32-bit: a run's samples must fit.
-  const std::int64_t samples =
-      static_cast<std::int64_t>(config.series) * static_cast<std::int64_t>(config.steps_per_series);
-  if (samples > kInt32Max) {
-    table->fail("steps_per_series", "series x steps_per_series = " + std::to_string(samples) +
-                                        " samples per run, more than " + std::to_string(kInt32Max));
-  }
 
   // Build the arm: what only the whole geometry can tell (no free pose, no goal,
   // A colliding) is reported at the key that set the part at fault.

@@ -15,6 +15,7 @@
 
 #include "engine/job/kernel_width.hpp"
 #include "engine/job/task_table.hpp"
+#include "engine/job/walk_sizes.hpp"
 #include "sims/khepera/khepera.hpp"
 
 namespace ggk::engine {
@@ -433,23 +434,16 @@ KheperaTaskConfig parse_khepera_table(const TomlTableReader& job,
   khepera::KheperaConfig& simulator = config.simulator;
 
   // The protocol first: the SOM's size is checked against it.
-  simulator.series =
-      static_cast<std::int32_t>(table->integer("series", {1, kInt32Max}, simulator.series));
-  simulator.steps_per_series = static_cast<std::int32_t>(
-      table->integer("steps_per_series", {1, kInt32Max}, simulator.steps_per_series));
+  const WalkSizes walks =
+      read_walk_sizes(*table, {simulator.series, simulator.steps_per_series}, WalkIds::kReadings);
+  simulator.series = walks.series;
+  simulator.steps_per_series = walks.steps_per_series;
   simulator.test_max_steps = static_cast<std::int32_t>(
       table->integer("test_max_steps", kTestMaxStepsRange, simulator.test_max_steps));
   simulator.test_episodes = static_cast<std::int32_t>(
       table->integer("test_episodes", kTestEpisodesRange, simulator.test_episodes));
-  // Reading ids are 32-bit: a run's readings (each series' start and one per step)
-  // must fit.
   const std::int64_t readings =
       std::int64_t{simulator.series} * (std::int64_t{simulator.steps_per_series} + 1);
-  if (readings > kInt32Max) {
-    table->fail("steps_per_series",
-                "series x (steps_per_series + 1) = " + std::to_string(readings) +
-                    " readings per run, more than " + std::to_string(kInt32Max));
-  }
 
   const TomlTableReader robot = table->subtable_or_empty("robot", kRobotKeys);
   simulator.body = parse_robot(robot);
