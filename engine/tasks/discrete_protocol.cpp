@@ -209,14 +209,12 @@ void test_greedy_policy(const RunContext& ctx, const SweepPoint& point,
 // metrics is NaN and lspi_iterations is 0.
 FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   const auto started = std::chrono::steady_clock::now();
+  if (point.kernels > ctx.graph.nodes) {
+    return invalid_fit(point, ctx.run, ctx.graph, ctx.metrics,
+                       "the sample graph has only " + std::to_string(ctx.graph.nodes) + " nodes");
+  }
   FitMetrics metrics(ctx.metrics);
   metrics.set("lspi_iterations", 0.0);
-  if (point.kernels > ctx.graph.nodes) {
-    set_graph_metrics(metrics, ctx.graph, kNaN);
-    return invalid_fit(point, ctx.run,
-                       "the sample graph has only " + std::to_string(ctx.graph.nodes) + " nodes",
-                       metrics);
-  }
   const DiscreteEnvironment& env = *ctx.env;
   FitRecord fit;
   fit.point = point;

@@ -74,8 +74,11 @@ void set_graph_metrics(FitMetrics& metrics, const RunGraph& graph, double kernel
   metrics.set("kernel_gap", kernel_gap);
 }
 
-FitRecord invalid_fit(const SweepPoint& point, std::int32_t run, std::string_view shortage,
-                      const FitMetrics& metrics) {
+FitRecord invalid_fit(const SweepPoint& point, std::int32_t run, const RunGraph& graph,
+                      std::span<const MetricSpec> specs, std::string_view shortage) {
+  FitMetrics metrics(specs);
+  metrics.set("lspi_iterations", 0.0);
+  set_graph_metrics(metrics, graph, std::numeric_limits<double>::quiet_NaN());
   FitRecord fit;
   fit.point = point;
   fit.status = "invalid";

@@ -92,9 +92,10 @@ void set_graph_metrics(FitMetrics& metrics, const RunGraph& graph, double kernel
 
 // The record of a fit that cannot start because it asks for more kernels than
 // the graph has nodes: status "invalid", the message "run R: P kernels requested
-// but <shortage>", `metrics` as they are (NaN but what the run knows).
-FitRecord invalid_fit(const SweepPoint& point, std::int32_t run, std::string_view shortage,
-                      const FitMetrics& metrics);
+// but <shortage>", the metrics of `specs` NaN but lspi_iterations (0) and the
+// graph's (kernel_gap NaN).
+FitRecord invalid_fit(const SweepPoint& point, std::int32_t run, const RunGraph& graph,
+                      std::span<const MetricSpec> specs, std::string_view shortage);
 
 // [lspi] evaluate_iterations: for every iterate of fit.lspi, its weights
 // (history/weights, iterations x k) and the tested metrics of its greedy

@@ -126,14 +126,11 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point,
   const auto started = std::chrono::steady_clock::now();
   const khepera::Khepera& robot = *ctx.robot;
   const std::int32_t m = robot.num_actions();
-  FitMetrics metrics(khepera_metric_specs());
-  metrics.set("lspi_iterations", 0.0);
   if (point.kernels > ctx.graph.nodes) {
-    set_graph_metrics(metrics, ctx.graph, kNaN);
-    return invalid_fit(point, ctx.run,
-                       "only " + std::to_string(ctx.graph.nodes) + " SOM units hold samples",
-                       metrics);
+    return invalid_fit(point, ctx.run, ctx.graph, khepera_metric_specs(),
+                       "only " + std::to_string(ctx.graph.nodes) + " SOM units hold samples");
   }
+  FitMetrics metrics(khepera_metric_specs());
   FitRecord fit;
   fit.point = point;
   fit.centers.assign(ctx.graph.centers.begin(), ctx.graph.centers.begin() + point.kernels);

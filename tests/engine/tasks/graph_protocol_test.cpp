@@ -85,7 +85,7 @@ TEST(RunGraph, DistancesFromTheCentresTheLargestFitUsesAndDiagnostics) {
 
   SweepPoint too_many;
   too_many.kernels = 5;
-  const FitRecord fit = invalid_fit(too_many, 7, "the sample graph has only 3 nodes", metrics);
+  const FitRecord fit = invalid_fit(too_many, 7, graph, specs, "the sample graph has only 3 nodes");
   EXPECT_EQ(fit.status, "invalid");
   EXPECT_EQ(fit.message, "run 7: 5 kernels requested but the sample graph has only 3 nodes");
   EXPECT_EQ(fit.point.kernels, 5);
@@ -93,7 +93,9 @@ TEST(RunGraph, DistancesFromTheCentresTheLargestFitUsesAndDiagnostics) {
   EXPECT_EQ(fit.metrics[0].first, "score");
   EXPECT_TRUE(std::isnan(fit.metrics[0].second));
   EXPECT_EQ(fit.metrics[1], (std::pair<std::string, double>{"lspi_iterations", 0.0}));
-  EXPECT_EQ(fit.metrics.back(), (std::pair<std::string, double>{"kernel_gap", 0.25}));
+  EXPECT_EQ(fit.metrics[2], (std::pair<std::string, double>{"graph_nodes", 3.0}));
+  EXPECT_EQ(fit.metrics.back().first, "kernel_gap");
+  EXPECT_TRUE(std::isnan(fit.metrics.back().second));
   EXPECT_TRUE(fit.centers.empty());
 }
 
