@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <string>
 #include <utility>
@@ -14,13 +15,19 @@
 #include "engine/tasks/seeds.hpp"
 #include "kernels/gaussian_kernels.hpp"
 #include "kernels/graph_diagnostics.hpp"
-#include "kernels/shortest_paths.hpp"
+#include "kernels/nearest_visited.hpp"
 #include "kernels/state_action_basis.hpp"
 #include "kernels/transition_model.hpp"
 
 namespace ggk::engine {
 
 namespace {
+
+const std::vector<MetricSpec>& goal_test_specs() {
+  static const std::vector<MetricSpec> specs = {{"success_rate", MetricKind::kFraction, true},
+                                                {"mean_steps_to_goal", MetricKind::kMean, true}};
+  return specs;
+}
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -86,125 +93,24 @@ std::vector<std::int32_t> center_order(const DiscreteEnvironment& env,
   return order;
 }
 
-// Euclidean distance between the state vectors of states a and b. Every distance
-// nearest_visited_states() compares or returns is this one expression, so that
-// its results are those of a scan over all visited states, bit for bit.
+// Euclidean distance between the state vectors of states a and b, as
+// kernels::nearest_visited_states computes it.
 double state_distance(const kernels::RowMatrixXd& vectors, std::int32_t a, std::int32_t b) {
   return (vectors.row(a) - vectors.row(b)).norm();
 }
 
-// A k-d tree over the visited states, for nearest-neighbour queries that give
-// exactly what a scan in id order gives: the smallest computed distance, ties to
-// the lowest id. A subtree is skipped only when the distance from the query to
-// its splitting plane, which bounds every distance inside it from below, exceeds
-// the best distance by more than any rounding of the computed distances (a
-// relative 1e-9, against errors of a few ulps), so every state at the best
-// distance is compared. O(n log n) to build, about O(log n) per query on grids.
-class VisitedStateTree {
- public:
-  VisitedStateTree(const kernels::RowMatrixXd& vectors, std::vector<std::int32_t> states)
-      : vectors_(vectors), states_(std::move(states)) {
-    if (!states_.empty()) build(0, static_cast<std::int32_t>(states_.size()));
-  }
-
-  // The visited state nearest to `state` and its distance; requires a non-empty tree.
-  std::pair<std::int32_t, double> nearest(std::int32_t state) const {
-    Best best{-1, std::numeric_limits<double>::infinity()};
-    search(0, state, best);
-    return {best.state, best.distance};
-  }
-
- private:
-  static constexpr std::int32_t kLeafSize = 8;
-  // Rounding allowance of the pruning test (see the class comment).
-  static constexpr double kPruneSlack = 1.0 - 1e-9;
-
-  struct Node {
-    std::int32_t begin = 0, end = 0;  // states_[begin, end)
-    Eigen::Index axis = -1;           // -1 for a leaf
-    double split = 0.0;               // left subtree: coordinate <= split; right: >= split
-    std::int32_t left = -1, right = -1;
-  };
-  struct Best {
-    std::int32_t state;
-    double distance;
-  };
-
-  std::int32_t build(std::int32_t begin, std::int32_t end) {
-    const auto id = static_cast<std::int32_t>(nodes_.size());
-    nodes_.push_back({begin, end});
-    if (end - begin <= kLeafSize) return id;
-    // Split the widest coordinate at its median.
-    Eigen::Index axis = 0;
-    double widest = -1.0;
-    for (Eigen::Index k = 0; k < vectors_.cols(); ++k) {
-      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      for (std::int32_t i = begin; i < end; ++i) {
-        const double x = vectors_(states_[static_cast<std::size_t>(i)], k);
-        lo = std::min(lo, x);
-        hi = std::max(hi, x);
-      }
-      if (hi - lo > widest) {
-        widest = hi - lo;
-        axis = k;
-      }
-    }
-    if (!(widest > 0.0)) return id;  // all equal along every axis: one leaf
-    const std::int32_t mid = begin + (end - begin) / 2;
-    const auto first = states_.begin() + begin;
-    std::nth_element(
-        first, states_.begin() + mid, states_.begin() + end,
-        [&](std::int32_t a, std::int32_t b) { return vectors_(a, axis) < vectors_(b, axis); });
-    const double split = vectors_(states_[static_cast<std::size_t>(mid)], axis);
-    const std::int32_t left = build(begin, mid);
-    const std::int32_t right = build(mid, end);
-    Node& node = nodes_[static_cast<std::size_t>(id)];
-    node.axis = axis;
-    node.split = split;
-    node.left = left;
-    node.right = right;
-    return id;
-  }
-
-  void search(std::int32_t id, std::int32_t query, Best& best) const {
-    const Node& node = nodes_[static_cast<std::size_t>(id)];
-    if (node.axis < 0) {
-      for (std::int32_t i = node.begin; i < node.end; ++i) {
-        const std::int32_t v = states_[static_cast<std::size_t>(i)];
-        const double d = state_distance(vectors_, query, v);
-        if (d < best.distance || (d == best.distance && v < best.state)) best = {v, d};
-      }
-      return;
-    }
-    const double offset = vectors_(query, node.axis) - node.split;
-    const std::int32_t near = offset <= 0.0 ? node.left : node.right;
-    const std::int32_t far = offset <= 0.0 ? node.right : node.left;
-    search(near, query, best);
-    if (std::abs(offset) * kPruneSlack <= best.distance) search(far, query, best);
-  }
-
-  const kernels::RowMatrixXd& vectors_;
-  std::vector<std::int32_t> states_;  // the visited states, permuted into the tree's leaves
-  std::vector<Node> nodes_;           // nodes_[0] is the root
-};
-
 struct RunContext {
-  const DiscreteEnvironment* env;
-  const DiscreteProtocol* protocol;
-  const JobSpec* job;
-  std::int32_t run;
+  const DiscreteEnvironment* env = nullptr;
+  const DiscreteProtocol* protocol = nullptr;
+  const JobSpec* job = nullptr;
+  std::int32_t run = 0;
   kernels::SampleBatch batch;  // folded when the job asks for it
-  kernels::EmpiricalTransitionModel model;
-  std::int32_t graph_nodes;
-  std::vector<std::int32_t> centers;      // centre order
-  kernels::RowMatrixXd center_distances;  // rows: the first centres of `centers`
+  std::unique_ptr<kernels::EmpiricalTransitionModel> model;
+  RunGraph graph;
+  std::vector<MetricSpec> metrics;  // discrete_metric_specs(*env)
   std::vector<std::int32_t> nearest;
   std::vector<double> nearest_distance;
   std::vector<std::int32_t> visited_states;  // in id order
-  // The run's graph diagnostics (kernels/graph_diagnostics.hpp).
-  double edges = 0.0;
-  double median_degree = 0.0;
-  double geodesic_stretch = 0.0;
 };
 
 // kernel_gap of a fit: the mean over the visited states and the fit's centres of
@@ -216,7 +122,7 @@ double fit_kernel_gap(const RunContext& ctx, std::span<const std::int32_t> cente
   double sum = 0.0;
   for (std::size_t j = 0; j < centers.size(); ++j) {
     for (std::size_t i = 0; i < states.size(); ++i) {
-      geodesic[i] = ctx.center_distances(static_cast<Eigen::Index>(j), states[i]);
+      geodesic[i] = ctx.graph.center_distances(static_cast<Eigen::Index>(j), states[i]);
       euclidean[i] = state_distance(vectors, states[i], centers[j]);
     }
     sum += kernels::kernel_gap_sum(geodesic, euclidean, sigma);
@@ -240,10 +146,10 @@ double roll_out(const RunContext& ctx, const std::vector<std::int32_t>& policy, 
   return -1.0;
 }
 
-// One test of a greedy policy (the protocol's test, sec. 4): a roll-out from every
-// start state, then one from each named start, all from a fresh copy of the fit's
-// evaluation stream (so the test of the last iterate is the fit's own test).
-struct PolicyTest {
+// The goal test of a greedy policy (the protocol's test, sec. 4): a roll-out from
+// every start state, then one from each named start, all from a fresh copy of the
+// fit's evaluation stream (so the test of the last iterate is the fit's own test).
+struct GoalTest {
   double success = 0.0;       // fraction of start states that reach a goal
   double mean_steps = kNaN;   // over the successful roll-outs
   std::vector<double> steps;  // per start state, -1 when it did not arrive
@@ -251,12 +157,12 @@ struct PolicyTest {
   std::vector<std::vector<std::int32_t>> trajectories;  // per named start, when asked
 };
 
-PolicyTest test_policy(const RunContext& ctx, const SweepPoint& point,
-                       const std::vector<std::int32_t>& policy, bool keep_trajectories) {
+GoalTest goal_test(const RunContext& ctx, const SweepPoint& point,
+                   const std::vector<std::int32_t>& policy, bool keep_trajectories) {
   const DiscreteEnvironment& env = *ctx.env;
   kernels::RandomStream random = stream_for(ctx.job->seed, ctx.run, Purpose::evaluation,
                                             static_cast<std::uint32_t>(point.evaluation_stream));
-  PolicyTest test;
+  GoalTest test;
   test.steps.reserve(env.start_states.size());
   double successes = 0.0, step_sum = 0.0;
   for (std::int32_t start : env.start_states) {
@@ -277,84 +183,49 @@ PolicyTest test_policy(const RunContext& ctx, const SweepPoint& point,
   return test;
 }
 
-// [lspi] evaluate_iterations: every iteration's weights (history/weights,
-// iterations x k) and its greedy policy's test, one value per iteration, under the
-// fit's metric names (history/success_rate, history/mean_steps_to_goal,
-// history/success_from_A, ...). The last entries equal the fit's own metrics.
-void add_iteration_tests(const RunContext& ctx, const SweepPoint& point,
-                         const kernels::SparseRowMatrix& features, FitRecord& fit) {
+// Sets the tested metrics of `policy`: the task's own test, or the goal test's
+// metrics (its record in *kept when asked, with the named starts' trajectories).
+void test_greedy_policy(const RunContext& ctx, const SweepPoint& point,
+                        const std::vector<std::int32_t>& policy, FitMetrics& metrics,
+                        GoalTest* kept) {
   const DiscreteEnvironment& env = *ctx.env;
-  const auto iterations = static_cast<std::int64_t>(fit.lspi.iterates.size());
-  const auto k = static_cast<std::int64_t>(fit.lspi.iterates.front().size());
-  NamedArray weights{"history/weights", {iterations, k}, {}};
-  weights.values.reserve(static_cast<std::size_t>(iterations * k));
-  std::vector<std::vector<double>> series(2 + 2 * env.named_starts.size());
-  for (const Eigen::VectorXd& w : fit.lspi.iterates) {
-    weights.values.insert(weights.values.end(), w.data(), w.data() + w.size());
-    const PolicyTest test =
-        test_policy(ctx, point, kernels::greedy_policy(features, env.num_actions, w), false);
-    series[0].push_back(test.success);
-    series[1].push_back(test.mean_steps);
-    for (std::size_t i = 0; i < env.named_starts.size(); ++i) {
-      const double steps = test.named_steps[i];
-      series[2 + 2 * i].push_back(steps >= 0 ? 1.0 : 0.0);
-      series[3 + 2 * i].push_back(steps >= 0 ? steps : kNaN);
-    }
+  if (env.test_policy) {
+    env.test_policy(policy, metrics);
+    return;
   }
-  fit.arrays.push_back(std::move(weights));
-  std::vector<std::string> names = {discrete_metric_names()[0], discrete_metric_names()[1]};
-  for (const auto& named : env.named_starts) {
-    names.push_back("success_from_" + named.first);
-    names.push_back("steps_from_" + named.first);
+  GoalTest test = goal_test(ctx, point, policy, kept != nullptr);
+  metrics.set("success_rate", test.success);
+  metrics.set("mean_steps_to_goal", test.mean_steps);
+  for (std::size_t i = 0; i < env.named_starts.size(); ++i) {
+    const std::string& name = env.named_starts[i].first;
+    const double steps = test.named_steps[i];
+    metrics.set("success_from_" + name, steps >= 0 ? 1.0 : 0.0);
+    metrics.set("steps_from_" + name, steps >= 0 ? steps : kNaN);
   }
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    fit.arrays.push_back({"history/" + names[i], {iterations}, std::move(series[i])});
-  }
+  if (kept != nullptr) *kept = std::move(test);
 }
 
+// Without a policy (invalid or failed fit) every metric but the run's graph
+// metrics is NaN and lspi_iterations is 0.
 FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   const auto started = std::chrono::steady_clock::now();
+  if (point.kernels > ctx.graph.nodes) {
+    return invalid_fit(point, ctx.run, ctx.graph, ctx.metrics,
+                       "the sample graph has only " + std::to_string(ctx.graph.nodes) + " nodes");
+  }
+  FitMetrics metrics(ctx.metrics);
+  metrics.set("lspi_iterations", 0.0);
+  const DiscreteEnvironment& env = *ctx.env;
   FitRecord fit;
   fit.point = point;
-  const auto& names = discrete_metric_names();
-  // Named starts add success_from_<name> and steps_from_<name>; without a
-  // policy (invalid or failed fit) every metric but the graph size is NaN.
-  double kernel_gap = kNaN;
-  auto set_metrics = [&](double success, double mean_steps, double iterations,
-                         const std::vector<double>& named_steps) {
-    fit.metrics = {{names[0], success},
-                   {names[1], mean_steps},
-                   {names[2], iterations},
-                   {names[3], static_cast<double>(ctx.graph_nodes)},
-                   {names[4], ctx.edges},
-                   {names[5], ctx.median_degree},
-                   {names[6], ctx.geodesic_stretch},
-                   {names[7], kernel_gap}};
-    for (std::size_t i = 0; i < ctx.env->named_starts.size(); ++i) {
-      const std::string& name = ctx.env->named_starts[i].first;
-      const double steps = i < named_steps.size() ? named_steps[i] : kNaN;
-      fit.metrics.emplace_back("success_from_" + name,
-                               std::isnan(steps) ? kNaN : (steps >= 0 ? 1.0 : 0.0));
-      fit.metrics.emplace_back("steps_from_" + name, steps >= 0 ? steps : kNaN);
-    }
-  };
-  if (point.kernels > ctx.graph_nodes) {
-    fit.status = "invalid";
-    fit.message = "run " + std::to_string(ctx.run) + ": " + std::to_string(point.kernels) +
-                  " kernels requested but the sample graph has only " +
-                  std::to_string(ctx.graph_nodes) + " nodes";
-    set_metrics(kNaN, kNaN, 0.0, {});
-    return fit;
-  }
-  const DiscreteEnvironment& env = *ctx.env;
-  fit.centers.assign(ctx.centers.begin(), ctx.centers.begin() + point.kernels);
-  kernel_gap = fit_kernel_gap(ctx, fit.centers, point.sigma);
+  fit.centers.assign(ctx.graph.centers.begin(), ctx.graph.centers.begin() + point.kernels);
+  set_graph_metrics(metrics, ctx.graph, fit_kernel_gap(ctx, fit.centers, point.sigma));
   const double truncation = ctx.job->basis.truncation;
   kernels::SparseRowMatrix state_kernels;
   if (point.basis == KernelType::ggk) {
     state_kernels = kernels::continuous_geodesic_gaussian_kernels(
-        ctx.nearest, ctx.nearest_distance, ctx.center_distances.topRows(point.kernels), point.sigma,
-        truncation);
+        ctx.nearest, ctx.nearest_distance, ctx.graph.center_distances.topRows(point.kernels),
+        point.sigma, truncation);
   } else {
     kernels::RowMatrixXd center_vectors(point.kernels, env.state_vectors.cols());
     for (std::int32_t j = 0; j < point.kernels; ++j) {
@@ -365,37 +236,44 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   }
   const kernels::SparseRowMatrix features =
       ctx.job->basis.scheme == kernels::BasisScheme::shift
-          ? kernels::shift_basis(state_kernels, env.num_actions, ctx.model)
+          ? kernels::shift_basis(state_kernels, env.num_actions, *ctx.model)
           : kernels::copy_basis(state_kernels, env.num_actions);
 
   fit.lspi = kernels::fit_lspi(features, env.num_actions, ctx.batch, lspi_options(point));
   fit.status = kernels::to_string(fit.lspi.status);
   fit.message = fit.lspi.message;
 
-  if (fit.lspi.weights.size() == 0) {
-    set_metrics(kNaN, kNaN, 0.0, {});
-  } else {
-    const PolicyTest test = test_policy(ctx, point, fit.lspi.policy, true);
-    set_metrics(test.success, test.mean_steps, static_cast<double>(fit.lspi.iterations()),
-                test.named_steps);
-    for (std::size_t i = 0; i < env.named_starts.size(); ++i) {
+  if (fit.lspi.weights.size() != 0) {
+    metrics.set("lspi_iterations", static_cast<double>(fit.lspi.iterations()));
+    GoalTest test;
+    test_greedy_policy(ctx, point, fit.lspi.policy, metrics, &test);
+    for (std::size_t i = 0; i < test.trajectories.size(); ++i) {
       const std::vector<std::int32_t>& trajectory = test.trajectories[i];
       fit.arrays.push_back({"trajectory_" + env.named_starts[i].first,
                             {static_cast<std::int64_t>(trajectory.size())},
                             std::vector<double>(trajectory.begin(), trajectory.end()),
                             ElementType::kInt32});
     }
-    fit.arrays.push_back({"steps_to_goal",
-                          {static_cast<std::int64_t>(test.steps.size())},
-                          test.steps,
-                          ElementType::kInt32});
+    if (!env.test_policy) {
+      fit.arrays.push_back({"steps_to_goal",
+                            {static_cast<std::int64_t>(test.steps.size())},
+                            test.steps,
+                            ElementType::kInt32});
+    }
     const Eigen::VectorXd values =
         kernels::state_values(features, env.num_actions, fit.lspi.weights);
     fit.arrays.push_back({"state_values",
                           {static_cast<std::int64_t>(values.size())},
                           std::vector<double>(values.data(), values.data() + values.size())});
-    if (!fit.lspi.iterates.empty()) add_iteration_tests(ctx, point, features, fit);
+    if (!fit.lspi.iterates.empty()) {
+      // [lspi] evaluate_iterations: history/<tested metric> per iterate.
+      add_iteration_history(fit, ctx.metrics, [&](const Eigen::VectorXd& w, FitMetrics& iterate) {
+        test_greedy_policy(ctx, point, kernels::greedy_policy(features, env.num_actions, w),
+                           iterate, nullptr);
+      });
+    }
   }
+  fit.metrics = metrics.named_values();
   fit.fit_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return fit;
@@ -403,33 +281,30 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
 
 }  // namespace
 
-void nearest_visited_states(const kernels::RowMatrixXd& state_vectors,
-                            const std::vector<std::uint8_t>& visited,
-                            std::vector<std::int32_t>& nearest, std::vector<double>& distance) {
-  const auto n = static_cast<std::int32_t>(state_vectors.rows());
-  nearest.assign(static_cast<std::size_t>(n), 0);
-  distance.assign(static_cast<std::size_t>(n), 0.0);
-  std::vector<std::int32_t> visited_states;
-  for (std::int32_t s = 0; s < n; ++s) {
-    if (visited[static_cast<std::size_t>(s)]) {
-      nearest[static_cast<std::size_t>(s)] = s;
-      visited_states.push_back(s);
+std::vector<MetricSpec> discrete_metric_specs(const DiscreteEnvironment& env) {
+  std::vector<MetricSpec> specs = env.test_policy ? env.policy_metrics : goal_test_specs();
+  specs.insert(specs.end(), graph_metric_specs().begin(), graph_metric_specs().end());
+  for (const auto& named : env.named_starts) {
+    specs.push_back({"success_from_" + named.first, MetricKind::kRate, true});
+    specs.push_back({"steps_from_" + named.first, MetricKind::kMean, true});
+  }
+  return specs;
+}
+
+const std::vector<std::string>& discrete_metric_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> result;
+    for (const MetricSpec& spec : discrete_metric_specs(DiscreteEnvironment{})) {
+      result.push_back(spec.name);
     }
-  }
-  if (visited_states.empty()) {
-    std::fill(distance.begin(), distance.end(), std::numeric_limits<double>::infinity());
-    return;
-  }
-  const VisitedStateTree tree(state_vectors, std::move(visited_states));
-  tbb::parallel_for(tbb::blocked_range<std::int32_t>(0, n, 1024),
-                    [&](const tbb::blocked_range<std::int32_t>& range) {
-                      for (std::int32_t s = range.begin(); s < range.end(); ++s) {
-                        if (visited[static_cast<std::size_t>(s)]) continue;
-                        const auto [v, d] = tree.nearest(s);
-                        nearest[static_cast<std::size_t>(s)] = v;
-                        distance[static_cast<std::size_t>(s)] = d;
-                      }
-                    });
+    return result;
+  }();
+  return names;
+}
+
+MetricKind discrete_metric_kind(std::string_view metric) {
+  return metric.starts_with("success_from_") ? MetricKind::kRate
+                                             : declared_kind(goal_test_specs(), metric);
 }
 
 RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscreteProtocol& protocol,
@@ -469,29 +344,23 @@ RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscretePr
     episodic.add(raw.states[i], raw.actions[i], raw.rewards[i], raw.next_states[i],
                  raw.terminals[i] != 0, raw.weights[i]);
   }
-  kernels::SampleBatch batch =
-      job.lspi.fold_duplicates ? kernels::fold_duplicate_samples(episodic) : episodic;
-  kernels::EmpiricalTransitionModel model(env.num_states, env.num_actions, batch.states,
-                                          batch.actions, batch.next_states, batch.weights);
-  RunContext ctx{&env, &protocol, &job, run, std::move(batch), std::move(model), 0, {}, {}, {}, {},
-                 {},   0.0,       0.0,  0.0};
-  ctx.graph_nodes =
-      static_cast<std::int32_t>(std::count(visited.begin(), visited.end(), std::uint8_t{1}));
+  RunContext ctx;
+  ctx.env = &env;
+  ctx.protocol = &protocol;
+  ctx.job = &job;
+  ctx.run = run;
+  ctx.batch = job.lspi.fold_duplicates ? kernels::fold_duplicate_samples(episodic) : episodic;
+  ctx.model = std::make_unique<kernels::EmpiricalTransitionModel>(
+      env.num_states, env.num_actions, ctx.batch.states, ctx.batch.actions, ctx.batch.next_states,
+      ctx.batch.weights);
   kernels::RandomStream center_stream = stream_for(job.seed, run, Purpose::centers);
-  ctx.centers = center_order(env, visited, center_stream);
-  std::int32_t max_kernels = 0;
-  for (const SweepPoint& p : points) max_kernels = std::max(max_kernels, p.kernels);
-  const auto sources = std::span<const std::int32_t>(ctx.centers)
-                           .first(static_cast<std::size_t>(std::min(max_kernels, ctx.graph_nodes)));
-  ctx.center_distances = kernels::geodesic_distances(record.graph, sources);
-  nearest_visited_states(env.state_vectors, visited, ctx.nearest, ctx.nearest_distance);
+  ctx.graph = run_graph(record.graph, visited, center_order(env, visited, center_stream),
+                        env.state_vectors, points);
+  ctx.metrics = discrete_metric_specs(env);
+  kernels::nearest_visited_states(env.state_vectors, visited, ctx.nearest, ctx.nearest_distance);
   for (std::int32_t s = 0; s < env.num_states; ++s) {
     if (visited[static_cast<std::size_t>(s)]) ctx.visited_states.push_back(s);
   }
-  ctx.edges = static_cast<double>(kernels::undirected_edge_count(record.graph));
-  ctx.median_degree = kernels::median_degree(record.graph, visited);
-  ctx.geodesic_stretch =
-      kernels::geodesic_stretch(ctx.center_distances, sources, env.state_vectors);
 
   record.fits.resize(points.size());
   tbb::parallel_for(std::size_t{0}, points.size(),

@@ -1,8 +1,10 @@
 #pragma once
-// The experiment protocol shared by tasks with a finite state set (maze, arm):
-// per run, random-walk samples -> graph over visited states -> kernel centres
-// (goals first, then random visited nodes) -> GGK / OGK state kernels -> copy or
-// shift basis (Eq. 9) -> LSPI -> greedy policy tested from every start state.
+// The experiment protocol shared by tasks with a finite state set (maze, arm,
+// chain): per run, random-walk samples -> graph over visited states -> kernel
+// centres (goals first, then random visited nodes) -> GGK / OGK state kernels ->
+// copy or shift basis (Eq. 9) -> LSPI -> the greedy policy's test: the goal test
+// (roll-outs from every start state) or the task's own (DiscreteEnvironment::
+// test_policy). The run's graph, centres and distances: graph_protocol.hpp.
 //
 // A run's samples, graph, transition model and shortest-path distances are
 // computed once and shared by all its fits (the sweep points), so GGK and OGK are
@@ -21,6 +23,7 @@
 #include "engine/job/job_spec.hpp"
 #include "engine/job/run_record.hpp"
 #include "engine/job/sweep.hpp"
+#include "engine/tasks/graph_protocol.hpp"
 #include "engine/tasks/run_memory.hpp"
 #include "kernels/eigen_types.hpp"
 #include "kernels/random_stream.hpp"
@@ -33,18 +36,27 @@ struct Transition {
   bool terminal = false;
 };
 
-// A finite environment as the protocol sees it. step must be thread-safe for
-// distinct streams (it is called from parallel tasks).
+// A finite environment as the protocol sees it. step and test_policy must be
+// thread-safe (they are called from parallel tasks; step with distinct streams).
 struct DiscreteEnvironment {
   std::int32_t num_states = 0;
   std::int32_t num_actions = 0;
-  kernels::RowMatrixXd state_vectors;      // num_states x d, for Euclidean distances
-  std::vector<std::int32_t> goal_states;   // sorted
-  std::vector<std::int32_t> start_states;  // series and tests start here (non-goal states)
+  kernels::RowMatrixXd state_vectors;     // num_states x d, for Euclidean distances
+  std::vector<std::int32_t> goal_states;  // sorted; none for a task without goals
+  // The random walks' series start here, and the goal test's roll-outs (the
+  // non-goal states of a task with goals; every state of one without).
+  std::vector<std::int32_t> start_states;
   // Start states with a name (the arm's "A"): each adds the metrics
   // success_from_<name>, steps_from_<name> and the array trajectory_<name>.
   std::vector<std::pair<std::string, std::int32_t>> named_starts;
   std::function<Transition(std::int32_t state, std::int32_t action, kernels::RandomStream&)> step;
+  // The test of a greedy policy (one action per state). Unset: the goal test
+  // (the metrics success_rate and mean_steps_to_goal, the array steps_to_goal,
+  // the named starts'). Set: the task's own test, which sets the metrics
+  // declared in policy_metrics (all tested: in the iteration history too) and
+  // adds no goal columns.
+  std::vector<MetricSpec> policy_metrics;
+  std::function<void(const std::vector<std::int32_t>& policy, FitMetrics& metrics)> test_policy;
 };
 
 struct DiscreteProtocol {
@@ -58,39 +70,20 @@ struct DiscreteProtocol {
   bool walk_through_goals = false;
 };
 
-// Per-fit metrics of this protocol, in summary-column order; the metrics of the
-// named starts follow them. The last four are the graph diagnostics of
-// kernels/graph_diagnostics.hpp (engine/tasks/README.md): per run (the same in
-// every fit of a run) the sample graph's `edges`, the `median_degree` of its
-// nodes (the visited states) and the `geodesic_stretch` over the pairs of the
-// run's centres (the first min(largest kernel count of the job, nodes) entries
-// of the centre order: every centre any fit of the run uses); per fit the
-// `kernel_gap` over the visited states and the fit's centres and width.
-inline const std::vector<std::string>& discrete_metric_names() {
-  static const std::vector<std::string> names = {
-      "success_rate", "mean_steps_to_goal", "lspi_iterations",  "graph_nodes",
-      "edges",        "median_degree",      "geodesic_stretch", "kernel_gap"};
-  return names;
-}
+// The per-fit metrics of `env` in summary-column order: its test's
+// (success_rate and mean_steps_to_goal for the goal test, else
+// env.policy_metrics), graph_metric_specs() (graph_protocol.hpp; the graph's
+// nodes are the visited states, the kernel gap's states the visited states),
+// then success_from_<name> and steps_from_<name> of each named start.
+std::vector<MetricSpec> discrete_metric_specs(const DiscreteEnvironment& env);
 
-// success_rate is a fraction (of the start states, per run); success_from_<name>
-// of each named start a rate (0 or 1 per fit); the others are means.
-inline MetricKind discrete_metric_kind(std::string_view metric) {
-  return metric == "success_rate"              ? MetricKind::kFraction
-         : metric.starts_with("success_from_") ? MetricKind::kRate
-                                               : MetricKind::kMean;
-}
+// The names of discrete_metric_specs() for a goal task without named starts.
+const std::vector<std::string>& discrete_metric_names();
 
-// For every state (row of state_vectors), the nearest visited state (itself when
-// visited) and the Euclidean distance to it, (row(s) - row(v)).norm(); ties go
-// to the lowest state id, exactly as a scan over the visited states in id order.
-// With no visited state, every unvisited state gets state 0 at infinite distance.
-// GGK values of unvisited states follow the continuous form
-// SP(s, c) = ED(s, n(s)) + SP(n(s), c). A k-d tree: O(n log n) on grids (a scan
-// over the visited states would be O(n^2)). Queries run as oneTBB tasks.
-void nearest_visited_states(const kernels::RowMatrixXd& state_vectors,
-                            const std::vector<std::uint8_t>& visited,
-                            std::vector<std::int32_t>& nearest, std::vector<double>& distance);
+// The kinds of the goal test's metrics: success_rate is a fraction (of the start
+// states, per run); success_from_<name> of each named start a rate (0 or 1 per
+// fit); the others are means.
+MetricKind discrete_metric_kind(std::string_view metric);
 
 // What a run's memory depends on, known before the environment is built.
 struct DiscreteSizes {

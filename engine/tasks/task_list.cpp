@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "engine/tasks/arm/arm_task.hpp"
+#include "engine/tasks/chain/chain_task.hpp"
 #include "engine/tasks/khepera/khepera_task.hpp"
 #include "engine/tasks/maze/maze_task.hpp"
 
@@ -16,6 +17,7 @@ const std::vector<TaskDefinition>& all_tasks() {
       maze_task_definition(),
       arm_task_definition(),
       khepera_task_definition(),
+      chain_task_definition(),
   };
   return tasks;
 }

@@ -12,6 +12,8 @@
 
 #include "engine/job/kernel_width.hpp"
 #include "engine/job/task_table.hpp"
+#include "engine/job/walk_sizes.hpp"
+#include "engine/tasks/geometry_keys.hpp"
 #include "sims/arm/arm.hpp"
 
 namespace ggk::engine {
@@ -26,58 +28,12 @@ constexpr std::string_view kGridStepKey = "grid_step_degrees";
 constexpr std::array<std::string_view, 2> kObjectKeys = {"center", "radius"};
 constexpr std::array<std::string_view, 5> kObstacleKeys = {"kind", "min", "max", "center",
                                                            "radius"};
-constexpr std::array<std::string_view, 2> kObstacleKinds = {"rectangle", "disc"};
 constexpr std::array<std::string_view, 3> kRectangleKeys = {"kind", "min", "max"};
 constexpr std::array<std::string_view, 3> kDiscKeys = {"kind", "center", "radius"};
-constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
-
-// The two elements of an [a, b] array, or a JobError at the key. `what` names
-// the elements ("numbers [x, y]").
-const toml::array& pair_array(const TomlTableReader& table, std::string_view key,
-                              const std::string& what) {
-  const toml::node* node = table.find(key);
-  if (node == nullptr) table.fail(key, "required key is missing (expected " + what + ")");
-  const toml::array* array = node->as_array();
-  if (array == nullptr || array->size() != 2) {
-    const std::string got = array == nullptr ? describe_value(*node)
-                            : array->size() == 1
-                                ? "an array of 1 element"
-                                : "an array of " + std::to_string(array->size()) + " elements";
-    table.fail(key, "expected an array of two " + what + ", got " + got);
-  }
-  return *array;
-}
-
-// [a, b] of numbers in `range` (integers accepted); `names` = {"x", "y"} names
-// the two elements in messages.
-std::array<double, 2> number_pair(const TomlTableReader& table, std::string_view key,
-                                  std::array<std::string_view, 2> names, NumberRange range,
-                                  const std::string& expectation) {
-  const toml::array& array = pair_array(
-      table, key, "numbers [" + std::string(names[0]) + ", " + std::string(names[1]) + "]");
-  std::array<double, 2> pair{};
-  for (std::size_t i = 0; i < 2; ++i) {
-    const toml::node& element = array[i];
-    std::optional<double> value;
-    if (const auto* integer = element.as_integer()) value = static_cast<double>(integer->get());
-    if (const auto* floating = element.as_floating_point()) value = floating->get();
-    if (!value || !range.contains(*value)) {
-      table.fail_at(element, key,
-                    "expected " + expectation + " for " + std::string(names[i]) + ", got " +
-                        describe_value(element));
-    }
-    pair[i] = *value;
-  }
-  return pair;
-}
-
-// [x, y] of finite numbers.
-arm::Point2 point(const TomlTableReader& table, std::string_view key,
-                  std::optional<arm::Point2> fallback = {}) {
-  if (!table.has(key) && fallback) return *fallback;
-  const auto xy = number_pair(table, key, {"x", "y"}, NumberRange{}, "a finite number");
-  return {xy[0], xy[1]};
-}
+constexpr std::array<ObstacleKind, 2> kObstacleKinds = {{
+    {"rectangle", kRectangleKeys, "kind, min, max"},
+    {"disc", kDiscKeys, "kind, center, radius"},
+}};
 
 // The joint grid step in tenths of a degree: grid_step_degrees, a whole number
 // of tenths in [0.1, 360), default 5 (the paper's grid).
@@ -105,7 +61,7 @@ std::array<std::int32_t, 2> degree_pair(const TomlTableReader& table, std::strin
   if (!table.has(key) && fallback) {
     pair = *fallback;
   } else {
-    const toml::array& array = pair_array(table, key, "integers " + names + " in degrees");
+    const toml::array& array = sized_array(table, key, 2, "integers " + names + " in degrees");
     for (std::size_t i = 0; i < 2; ++i) {
       const toml::node& element = array[i];
       const auto* integer = element.as_integer();
@@ -148,17 +104,7 @@ std::array<std::int32_t, 2> limits(const TomlTableReader& table, std::string_vie
 }
 
 arm::Obstacle obstacle(const TomlTableReader& table) {
-  const std::string kind = table.choice("kind", kObstacleKinds);
-  // Keys of the other kind are errors, not silently ignored.
-  const std::span<const std::string_view> own =
-      kind == "rectangle" ? std::span<const std::string_view>(kRectangleKeys)
-                          : std::span<const std::string_view>(kDiscKeys);
-  for (const std::string_view key : kObstacleKeys) {
-    if (table.has(key) && std::find(own.begin(), own.end(), key) == own.end()) {
-      table.fail(key, "a " + kind + " has no key '" + std::string(key) + "' (its keys: " +
-                          (kind == "rectangle" ? "kind, min, max" : "kind, center, radius") + ")");
-    }
-  }
+  const std::string kind(obstacle_kind(table, kObstacleKinds, kObstacleKeys).name);
   if (kind == "rectangle") {
     const arm::Point2 min = point(table, "min");
     const arm::Point2 max = point(table, "max");
@@ -168,29 +114,6 @@ arm::Obstacle obstacle(const TomlTableReader& table) {
     return arm::Rectangle{min, max};
   }
   return arm::Disc{point(table, "center"), table.number("radius", NumberRange::above(0.0))};
-}
-
-// The readers of the [[arm.obstacles]] tables, in file order.
-std::vector<TomlTableReader> obstacle_tables(const TomlTableReader& table) {
-  std::vector<TomlTableReader> readers;
-  const toml::node* node = table.find("obstacles");
-  if (node == nullptr) return readers;
-  const toml::array* array = node->as_array();
-  if (array == nullptr) {
-    table.fail("obstacles",
-               "expected an array of tables ([[arm.obstacles]]), got " + describe_value(*node));
-  }
-  for (std::size_t i = 0; i < array->size(); ++i) {
-    const toml::table* element = (*array)[i].as_table();
-    if (element == nullptr) {
-      table.fail_at((*array)[i], "obstacles",
-                    "expected a table with kind = \"rectangle\" or \"disc\", got " +
-                        describe_value((*array)[i]));
-    }
-    readers.emplace_back(*element, table.key_path("obstacles") + "[" + std::to_string(i) + "]",
-                         table.file(), kObstacleKeys);
-  }
-  return readers;
 }
 
 // State vectors are joint angles in units of 5 degrees: distinct poses are at
@@ -215,7 +138,8 @@ arm::ArmConfig parse_arm_table(const TomlTableReader& job) {
   arm::ArmGeometry& geometry = config.geometry;
 
   const auto lengths =
-      number_pair(*table, "links", {"link1", "link2"}, NumberRange::above(0.0), "a length > 0.0");
+      numbers_of<2>(*table, "links", sized_array(*table, "links", 2, "numbers [link1, link2]"),
+                    {"link1", "link2"}, NumberRange::above(0.0), "a length > 0.0");
   geometry.link1_length = lengths[0];
   geometry.link2_length = lengths[1];
   geometry.base = point(*table, "base", arm::Point2{});
@@ -230,26 +154,19 @@ arm::ArmConfig parse_arm_table(const TomlTableReader& job) {
   const auto start = degree_pair(*table, "start_A", "[shoulder, elbow]", config.grid_step_tenths);
   config.start_A = {static_cast<double>(start[0]), static_cast<double>(start[1])};
 
-  const std::vector<TomlTableReader> obstacles = obstacle_tables(*table);
+  const std::vector<TomlTableReader> obstacles =
+      obstacle_tables(*table, kObstacleKinds, kObstacleKeys);
   for (const TomlTableReader& reader : obstacles) geometry.obstacles.push_back(obstacle(reader));
 
   const std::optional<TomlTableReader> object = table->subtable("object", kObjectKeys);
   if (!object) table->fail("object", "required table [arm.object] is missing");
   geometry.object = {point(*object, "center"), object->number("radius", NumberRange::above(0.0))};
 
-  config.series =
-      static_cast<std::int32_t>(table->integer("series", {1, kInt32Max}, config.series));
-  config.steps_per_series = static_cast<std::int32_t>(
-      table->integer("steps_per_series", {1, kInt32Max}, config.steps_per_series));
+  const WalkSizes walks = read_walk_sizes(*table, {config.series, config.steps_per_series});
+  config.series = walks.series;
+  config.steps_per_series = walks.steps_per_series;
   config.test_max_steps = static_cast<std::int32_t>(
       table->integer("test_max_steps", kTestMaxStepsRange, config.test_max_steps));
-  // Sample ids are 32-bit: a run's samples must fit.
-  const std::int64_t samples =
-      static_cast<std::int64_t>(config.series) * static_cast<std::int64_t>(config.steps_per_series);
-  if (samples > kInt32Max) {
-    table->fail("steps_per_series", "series x steps_per_series = " + std::to_string(samples) +
-                                        " samples per run, more than " + std::to_string(kInt32Max));
-  }
 
   // Build the arm: what only the whole geometry can tell (no free pose, no goal,
   // A colliding) is reported at the key that set the part at fault.

@@ -15,6 +15,8 @@
 
 #include "engine/job/kernel_width.hpp"
 #include "engine/job/task_table.hpp"
+#include "engine/job/walk_sizes.hpp"
+#include "engine/tasks/geometry_keys.hpp"
 #include "sims/khepera/khepera.hpp"
 
 namespace ggk::engine {
@@ -31,8 +33,6 @@ constexpr std::array<std::string_view, 5> kArenaKeys = {"min", "max", "walled", 
 constexpr std::array<std::string_view, 3> kStartKeys = {"x", "y", "heading_deg"};
 constexpr std::array<std::string_view, 9> kObstacleKeys = {
     "kind", "a", "b", "min", "max", "center", "size", "angle_deg", "radius"};
-constexpr std::array<std::string_view, 4> kObstacleKinds = {"segment", "rectangle",
-                                                            "rotated_rectangle", "disc"};
 constexpr std::array<std::string_view, 3> kSegmentKeys = {"kind", "a", "b"};
 constexpr std::array<std::string_view, 3> kRectangleKeys = {"kind", "min", "max"};
 constexpr std::array<std::string_view, 4> kRotatedRectangleKeys = {"kind", "center", "size",
@@ -63,70 +63,12 @@ constexpr IntegerRange kTestEpisodesRange{1, 10'000};
 // per run.
 constexpr IntegerRange kSomEpochsRange{1, 10'000};
 
-// The keys of one obstacle kind, and how a message lists them.
-struct ObstacleKind {
-  std::string_view name;
-  std::span<const std::string_view> keys;
-  std::string_view listed;
-};
 constexpr std::array<ObstacleKind, 4> kObstacleKindKeys = {{
     {"segment", kSegmentKeys, "kind, a, b"},
     {"rectangle", kRectangleKeys, "kind, min, max"},
     {"rotated_rectangle", kRotatedRectangleKeys, "kind, center, size, angle_deg"},
     {"disc", kDiscKeys, "kind, center, radius"},
 }};
-
-// The value of a number node (integer or float), if it is one.
-std::optional<double> number_value(const toml::node& node) {
-  if (const auto* integer = node.as_integer()) return static_cast<double>(integer->get());
-  if (const auto* floating = node.as_floating_point()) return floating->get();
-  return std::nullopt;
-}
-
-// An array of exactly `size` elements at `key`, or a JobError. `what` says what
-// the elements are ("numbers [x, y]").
-const toml::array& sized_array(const TomlTableReader& table, std::string_view key, std::size_t size,
-                               const std::string& what) {
-  const toml::node* node = table.find(key);
-  if (node == nullptr) table.fail(key, "required key is missing (expected " + what + ")");
-  const toml::array* array = node->as_array();
-  if (array == nullptr || array->size() != size) {
-    const std::string got = array == nullptr ? describe_value(*node)
-                            : array->size() == 1
-                                ? "an array of 1 element"
-                                : "an array of " + std::to_string(array->size()) + " elements";
-    table.fail(key, "expected an array of " + std::to_string(size) + " " + what + ", got " + got);
-  }
-  return *array;
-}
-
-// The numbers of `array`, each in `range`; names[i] names element i in messages.
-template <std::size_t N>
-std::array<double, N> numbers_of(const TomlTableReader& table, std::string_view key,
-                                 const toml::array& array, std::array<std::string_view, N> names,
-                                 NumberRange range, std::string_view expectation) {
-  std::array<double, N> values{};
-  for (std::size_t i = 0; i < N; ++i) {
-    const toml::node& element = array[i];
-    const std::optional<double> value = number_value(element);
-    if (!value || !range.contains(*value)) {
-      table.fail_at(element, key,
-                    "expected " + std::string(expectation) + " for " + std::string(names[i]) +
-                        ", got " + describe_value(element));
-    }
-    values[i] = *value;
-  }
-  return values;
-}
-
-// [x, y] of finite numbers; required unless a fallback is given.
-khepera::Point2 point(const TomlTableReader& table, std::string_view key,
-                      std::optional<khepera::Point2> fallback = {}) {
-  if (!table.has(key) && fallback) return *fallback;
-  const toml::array& array = sized_array(table, key, 2, "numbers [x, y]");
-  const auto xy = numbers_of<2>(table, key, array, {"x", "y"}, NumberRange{}, "a finite number");
-  return {xy[0], xy[1]};
-}
 
 // The reader of a sub-table given inline or as [table]: `key` must hold a table.
 TomlTableReader required_subtable(const TomlTableReader& table, std::string_view key,
@@ -138,16 +80,7 @@ TomlTableReader required_subtable(const TomlTableReader& table, std::string_view
 }
 
 khepera::Shape obstacle(const TomlTableReader& table) {
-  const std::string kind = table.choice("kind", kObstacleKinds);
-  const ObstacleKind& own = *std::find_if(kObstacleKindKeys.begin(), kObstacleKindKeys.end(),
-                                          [&](const ObstacleKind& k) { return k.name == kind; });
-  // Keys of another kind are errors, not silently ignored.
-  for (const std::string_view key : kObstacleKeys) {
-    if (table.has(key) && std::find(own.keys.begin(), own.keys.end(), key) == own.keys.end()) {
-      table.fail(key, "a " + kind + " has no key '" + std::string(key) +
-                          "' (its keys: " + std::string(own.listed) + ")");
-    }
-  }
+  const std::string kind(obstacle_kind(table, kObstacleKindKeys, kObstacleKeys).name);
   if (kind == "segment") {
     const khepera::Point2 a = point(table, "a");
     const khepera::Point2 b = point(table, "b");
@@ -171,30 +104,6 @@ khepera::Shape obstacle(const TomlTableReader& table) {
     return khepera::RotatedRectangle{center, wh[0], wh[1], angle};
   }
   return khepera::Disc{point(table, "center"), table.number("radius", NumberRange::above(0.0))};
-}
-
-// The readers of the obstacles tables ([[...obstacles]]), in file order.
-std::vector<TomlTableReader> obstacle_tables(const TomlTableReader& arena) {
-  std::vector<TomlTableReader> readers;
-  const toml::node* node = arena.find("obstacles");
-  if (node == nullptr) return readers;
-  const toml::array* array = node->as_array();
-  if (array == nullptr) {
-    arena.fail("obstacles", "expected an array of tables ([[" + arena.key_path("obstacles") +
-                                "]]), got " + describe_value(*node));
-  }
-  for (std::size_t i = 0; i < array->size(); ++i) {
-    const toml::table* element = (*array)[i].as_table();
-    if (element == nullptr) {
-      arena.fail_at((*array)[i], "obstacles",
-                    "expected a table with kind = \"segment\", \"rectangle\", "
-                    "\"rotated_rectangle\" or \"disc\", got " +
-                        describe_value((*array)[i]));
-    }
-    readers.emplace_back(*element, arena.key_path("obstacles") + "[" + std::to_string(i) + "]",
-                         arena.file(), kObstacleKeys);
-  }
-  return readers;
 }
 
 // The arena's readers: its table and its obstacles, kept for reporting what the
@@ -433,23 +342,16 @@ KheperaTaskConfig parse_khepera_table(const TomlTableReader& job,
   khepera::KheperaConfig& simulator = config.simulator;
 
   // The protocol first: the SOM's size is checked against it.
-  simulator.series =
-      static_cast<std::int32_t>(table->integer("series", {1, kInt32Max}, simulator.series));
-  simulator.steps_per_series = static_cast<std::int32_t>(
-      table->integer("steps_per_series", {1, kInt32Max}, simulator.steps_per_series));
+  const WalkSizes walks =
+      read_walk_sizes(*table, {simulator.series, simulator.steps_per_series}, WalkIds::kReadings);
+  simulator.series = walks.series;
+  simulator.steps_per_series = walks.steps_per_series;
   simulator.test_max_steps = static_cast<std::int32_t>(
       table->integer("test_max_steps", kTestMaxStepsRange, simulator.test_max_steps));
   simulator.test_episodes = static_cast<std::int32_t>(
       table->integer("test_episodes", kTestEpisodesRange, simulator.test_episodes));
-  // Reading ids are 32-bit: a run's readings (each series' start and one per step)
-  // must fit.
   const std::int64_t readings =
       std::int64_t{simulator.series} * (std::int64_t{simulator.steps_per_series} + 1);
-  if (readings > kInt32Max) {
-    table->fail("steps_per_series",
-                "series x (steps_per_series + 1) = " + std::to_string(readings) +
-                    " readings per run, more than " + std::to_string(kInt32Max));
-  }
 
   const TomlTableReader robot = table->subtable_or_empty("robot", kRobotKeys);
   simulator.body = parse_robot(robot);
@@ -468,7 +370,7 @@ KheperaTaskConfig parse_khepera_table(const TomlTableReader& job,
   }
   if (table->has("arena")) {
     ArenaTables arena{required_subtable(*table, "arena", kArenaKeys, "a table"), {}};
-    arena.obstacles = obstacle_tables(arena.arena);
+    arena.obstacles = obstacle_tables(arena.arena, kObstacleKindKeys, kObstacleKeys);
     simulator.arena = parse_arena(arena);
     check_simulator(simulator, *table, robot, sensors, motion, rewards, arena);
     return config;
@@ -494,7 +396,7 @@ KheperaTaskConfig parse_khepera_table(const TomlTableReader& job,
                      "TOML syntax error: " + std::string(error.description()));
     }
     ArenaTables arena{TomlTableReader(root, "", file, kArenaKeys), {}};
-    arena.obstacles = obstacle_tables(arena.arena);
+    arena.obstacles = obstacle_tables(arena.arena, kObstacleKindKeys, kObstacleKeys);
     simulator.arena = parse_arena(arena);
     check_simulator(simulator, *table, robot, sensors, motion, rewards, arena);
   } catch (const JobError& error) {

@@ -11,6 +11,7 @@
 
 #include "engine/job/kernel_width.hpp"
 #include "engine/job/task_table.hpp"
+#include "engine/job/walk_sizes.hpp"
 #include "sims/maze/maze.hpp"
 
 namespace ggk::engine {
@@ -19,7 +20,6 @@ namespace {
 constexpr std::array<std::string_view, 6> kMazeKeys = {
     "map", "map_file", "slip", "series", "steps_per_series", "test_max_steps"};
 constexpr std::string_view kDefaultMapFile = "maps/four-rooms.txt";
-constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
 
 // Whether some free cell reaches a goal. Moves go between neighbouring non-wall
 // cells both ways (a blocked move stays put), so the cells that reach a goal are
@@ -93,18 +93,11 @@ sims::maze::MazeConfig parse_maze_table(const TomlTableReader& job,
   check_kernel_widths(job, maze_distance_scale(*parsed));
 
   config.slip = maze.number("slip", NumberRange::half_open(0.0, 1.0), config.slip);
-  config.series = static_cast<std::int32_t>(maze.integer("series", {1, kInt32Max}, config.series));
-  config.steps_per_series = static_cast<std::int32_t>(
-      maze.integer("steps_per_series", {1, kInt32Max}, config.steps_per_series));
+  const WalkSizes walks = read_walk_sizes(maze, {config.series, config.steps_per_series});
+  config.series = walks.series;
+  config.steps_per_series = walks.steps_per_series;
   config.test_max_steps = static_cast<std::int32_t>(
       maze.integer("test_max_steps", kTestMaxStepsRange, config.test_max_steps));
-  // Sample ids are 32-bit: a run's samples must fit.
-  const std::int64_t samples =
-      static_cast<std::int64_t>(config.series) * static_cast<std::int64_t>(config.steps_per_series);
-  if (samples > kInt32Max) {
-    maze.fail("steps_per_series", "series x steps_per_series = " + std::to_string(samples) +
-                                      " samples per run, more than " + std::to_string(kInt32Max));
-  }
   return config;
 }
 

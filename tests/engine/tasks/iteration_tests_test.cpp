@@ -1,6 +1,7 @@
 // [lspi] evaluate_iterations: every LSPI iteration's weights and the protocol's
 // test of its greedy policy are stored per fit (history/weights,
-// history/<metric>). Checked on the shipped CI jobs of the arm and the Khepera:
+// history/<tested metric>). Checked on the shipped CI jobs of the arm, the
+// Khepera and the chain:
 // the option changes no fit's own result, the last iterate is the fit's weights,
 // and the test of the last iterate gives the fit's own metrics, bit for bit.
 
@@ -8,6 +9,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -100,11 +102,14 @@ TEST_P(IterationTests, StoreEveryIterateAndItsTestWithoutChangingTheFit) {
                   1e-9 * (1.0 + std::sqrt(squares)));
     }
 
-    const std::vector<std::string> names =
-        job_.task == "khepera"
-            ? std::vector<std::string>{"mean_return", "collision_fraction", "mean_steps"}
-            : std::vector<std::string>{"success_rate", "mean_steps_to_goal", "success_from_A",
-                                       "steps_from_A"};
+    // The tested metrics of each task; the others (LSPI's, the graph's) have none.
+    const std::map<std::string, std::vector<std::string>> tested = {
+        {"khepera", {"mean_return", "collision_fraction", "mean_steps"}},
+        {"arm", {"success_rate", "mean_steps_to_goal", "success_from_A", "steps_from_A"}},
+        {"chain", {"optimal_action_fraction"}}};
+    const std::vector<std::string>& names = tested.at(job_.task);
+    EXPECT_EQ(find_array(b, "history/lspi_iterations"), nullptr);
+    EXPECT_EQ(find_array(b, "history/kernel_gap"), nullptr);
     for (const std::string& name : names) {
       const NamedArray* series = find_array(b, "history/" + name);
       ASSERT_NE(series, nullptr) << name;
@@ -114,7 +119,8 @@ TEST_P(IterationTests, StoreEveryIterateAndItsTestWithoutChangingTheFit) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(ShippedCiJobs, IterationTests, ::testing::Values("ci-arm", "ci-khepera"));
+INSTANTIATE_TEST_SUITE_P(ShippedCiJobs, IterationTests,
+                         ::testing::Values("ci-arm", "ci-khepera", "ci-chain"));
 
 }  // namespace
 }  // namespace ggk::engine

@@ -6,17 +6,58 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <filesystem>
+#include <set>
 #include <string>
 
+#include "engine/job/job_error.hpp"
+#include "engine/job/job_file.hpp"
 #include "engine/tasks/discrete_protocol.hpp"
 #include "engine/tasks/khepera/khepera_task.hpp"
 
 namespace ggk::engine {
 namespace {
 
+namespace fs = std::filesystem;
+
 TEST(MemoryCheck, EveryTaskEstimatesItsRuns) {
   for (const TaskDefinition& task : registered_tasks()) {
     EXPECT_NE(task.estimate_run_bytes, nullptr) << task.table.name;
+  }
+}
+
+// Every registered task ships a job in jobs/, and every task's parser hands its
+// distances to check_kernel_widths: a width at which every kernel value would
+// be 0, or 1, is refused at [sweep] sigma in each task's shipped jobs.
+TEST(KernelWidths, EveryTaskRefusesWidthsItsDistancesCannotUse) {
+  const char* source_dir = std::getenv("GGK_SOURCE_DIR");
+  if (source_dir == nullptr) GTEST_SKIP() << "GGK_SOURCE_DIR is not set (run through ctest)";
+  std::set<std::string> shipped;
+  for (const auto& entry : std::filesystem::directory_iterator(fs::path(source_dir) / "jobs")) {
+    if (entry.path().extension() != ".toml") continue;
+    JobLoadOptions options;
+    options.check_output = false;
+    std::string task;
+    try {
+      task = load_job_file(entry.path(), task_tables(), options).task;
+    } catch (const JobError&) {
+      continue;  // a study: `ggk run` reads it as one (job/study.hpp)
+    }
+    if (!shipped.insert(task).second) continue;
+    for (const std::string sigma : {"1e-300", "1e300"}) {
+      options.overrides = {"sweep.sigma=[" + sigma + "]"};
+      try {
+        load_job_file(entry.path(), task_tables(), options);
+        ADD_FAILURE() << entry.path() << " accepts sigma = " << sigma;
+      } catch (const JobError& error) {
+        EXPECT_NE(std::string(error.what()).find("sigma"), std::string::npos) << error.what();
+      }
+    }
+  }
+  for (const TaskDefinition& task : registered_tasks()) {
+    EXPECT_EQ(shipped.count(std::string(task.table.name)), 1u)
+        << "no job in jobs/ runs task " << task.table.name;
   }
 }
 
@@ -27,6 +68,7 @@ TEST(MetricKind, EachTaskDeclaresItsRatesAndFractions) {
   EXPECT_EQ(metric_kind("arm", "steps_from_A"), MetricKind::kMean);
   EXPECT_EQ(metric_kind("khepera", "collision_fraction"), MetricKind::kFraction);  // of episodes
   EXPECT_EQ(metric_kind("khepera", "mean_return"), MetricKind::kMean);
+  EXPECT_EQ(metric_kind("chain", "optimal_action_fraction"), MetricKind::kFraction);
 }
 
 TEST(MetricKind, EveryOtherMetricIsAMean) {

@@ -170,7 +170,7 @@ std::vector<MalformedArm> malformed_arms() {
       {"links missing", arm_job_with(9, ""), {"bad.toml:", "[arm] links: required key"}},
       {"links a number",
        arm_job_with(9, "links = 1.0"),
-       {"bad.toml:9:1: [arm] links: expected an array of two", "got 1.0"}},
+       {"bad.toml:9:1: [arm] links: expected an array of 2 numbers", "got 1.0"}},
       {"three links",
        arm_job_with(9, "links = [1, 1, 1]"),
        {"bad.toml:9:1: [arm] links:", "got an array of 3 elements"}},

@@ -1,0 +1,114 @@
+#include "engine/tasks/graph_protocol.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+#include "kernels/graph_diagnostics.hpp"
+#include "kernels/shortest_paths.hpp"
+
+namespace ggk::engine {
+
+const std::vector<MetricSpec>& graph_metric_specs() {
+  static const std::vector<MetricSpec> specs = {
+      {"lspi_iterations"}, {"graph_nodes"},      {"edges"},
+      {"median_degree"},   {"geodesic_stretch"}, {"kernel_gap"}};
+  return specs;
+}
+
+MetricKind declared_kind(std::span<const MetricSpec> specs, std::string_view metric) {
+  for (const MetricSpec& spec : specs) {
+    if (spec.name == metric) return spec.kind;
+  }
+  return MetricKind::kMean;
+}
+
+FitMetrics::FitMetrics(std::span<const MetricSpec> specs)
+    : specs_(specs), values_(specs.size(), std::numeric_limits<double>::quiet_NaN()) {}
+
+std::size_t FitMetrics::index_of(std::string_view name) const {
+  for (std::size_t i = 0; i < specs_.size(); ++i) {
+    if (specs_[i].name == name) return i;
+  }
+  throw std::logic_error("metric '" + std::string(name) + "' is not declared by the task");
+}
+
+void FitMetrics::set(std::string_view name, double value) {
+  values_[index_of(name)] = value;
+}
+
+double FitMetrics::get(std::string_view name) const {
+  return values_[index_of(name)];
+}
+
+std::vector<std::pair<std::string, double>> FitMetrics::named_values() const {
+  std::vector<std::pair<std::string, double>> result;
+  result.reserve(specs_.size());
+  for (std::size_t i = 0; i < specs_.size(); ++i) result.emplace_back(specs_[i].name, values_[i]);
+  return result;
+}
+
+RunGraph run_graph(const kernels::CsrGraph& graph, std::span<const std::uint8_t> is_node,
+                   std::vector<std::int32_t> center_order, const kernels::RowMatrixXd& node_vectors,
+                   std::span<const SweepPoint> points) {
+  RunGraph result;
+  result.nodes = static_cast<std::int32_t>(std::count(is_node.begin(), is_node.end(), 1));
+  result.centers = std::move(center_order);
+  std::int32_t max_kernels = 0;
+  for (const SweepPoint& p : points) max_kernels = std::max(max_kernels, p.kernels);
+  const auto sources = std::span<const std::int32_t>(result.centers)
+                           .first(static_cast<std::size_t>(std::min(max_kernels, result.nodes)));
+  result.center_distances = kernels::geodesic_distances(graph, sources);
+  result.edges = static_cast<double>(kernels::undirected_edge_count(graph));
+  result.median_degree = kernels::median_degree(graph, is_node);
+  result.geodesic_stretch =
+      kernels::geodesic_stretch(result.center_distances, sources, node_vectors);
+  return result;
+}
+
+void set_graph_metrics(FitMetrics& metrics, const RunGraph& graph, double kernel_gap) {
+  metrics.set("graph_nodes", static_cast<double>(graph.nodes));
+  metrics.set("edges", graph.edges);
+  metrics.set("median_degree", graph.median_degree);
+  metrics.set("geodesic_stretch", graph.geodesic_stretch);
+  metrics.set("kernel_gap", kernel_gap);
+}
+
+FitRecord invalid_fit(const SweepPoint& point, std::int32_t run, const RunGraph& graph,
+                      std::span<const MetricSpec> specs, std::string_view shortage) {
+  FitMetrics metrics(specs);
+  metrics.set("lspi_iterations", 0.0);
+  set_graph_metrics(metrics, graph, std::numeric_limits<double>::quiet_NaN());
+  FitRecord fit;
+  fit.point = point;
+  fit.status = "invalid";
+  fit.message = "run " + std::to_string(run) + ": " + std::to_string(point.kernels) +
+                " kernels requested but " + std::string(shortage);
+  fit.metrics = metrics.named_values();
+  return fit;
+}
+
+void add_iteration_history(
+    FitRecord& fit, std::span<const MetricSpec> specs,
+    const std::function<void(const Eigen::VectorXd& weights, FitMetrics& metrics)>& test) {
+  const auto iterations = static_cast<std::int64_t>(fit.lspi.iterates.size());
+  const auto k = static_cast<std::int64_t>(fit.lspi.iterates.front().size());
+  NamedArray weights{"history/weights", {iterations, k}, {}};
+  weights.values.reserve(static_cast<std::size_t>(iterations * k));
+  std::vector<std::vector<double>> series(specs.size());
+  for (const Eigen::VectorXd& w : fit.lspi.iterates) {
+    weights.values.insert(weights.values.end(), w.data(), w.data() + w.size());
+    FitMetrics metrics(specs);
+    test(w, metrics);
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+      if (specs[i].tested) series[i].push_back(metrics.get(specs[i].name));
+    }
+  }
+  fit.arrays.push_back(std::move(weights));
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    if (!specs[i].tested) continue;
+    fit.arrays.push_back({"history/" + specs[i].name, {iterations}, std::move(series[i])});
+  }
+}
+
+}  // namespace ggk::engine
