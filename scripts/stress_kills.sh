@@ -1,17 +1,48 @@
 #!/usr/bin/env bash
-# Kill ggk at random moments and check that --resume always finishes the job to
-# the results of an uninterrupted run. Usage:
-#   bash scripts/stress_kills.sh [TRIES] [GGK]     (default 50 tries, build/ggk)
-# Each try: start the job (or resume the file of the last try), sleep a random
-# 0..1.5 s, send SIGKILL, SIGINT or SIGTERM (a third each; some tries kill the
-# resume itself), then `ggk run --resume` to the end, `ggk verify` and `ggk diff`
-# against the reference. Prints survived / tried and exits 1 on any loss.
+# The fault harness: ggk attacked at random, and what must survive. Usage:
+#   bash scripts/stress_kills.sh [--class CLASS] [TRIES] [GGK]
+# CLASS (default kills; `all` runs every class with TRIES each), TRIES (default
+# 50), GGK (default build/ggk). Each class prints "CLASS survived: S / T" and
+# the script exits 1 if any try lost something:
+#   kills            start the job (or resume the file of the last try), sleep a
+#                    random 0..1.5 s, send SIGKILL, SIGINT or SIGTERM (some tries
+#                    kill the resume too), then --resume to the end: `ggk verify`
+#                    clean and `ggk diff` equal to an uninterrupted run
+#   mpi_kills        the same under `mpirun -np 3` (needs mpirun): SIGINT or
+#                    SIGTERM to mpirun, or SIGKILL to one rank; --resume under
+#                    mpirun again (or a single process in every other try)
+#   hostile_shards   two --runs shards, the second with 1..4 random bytes
+#                    overwritten; `ggk merge` either writes the whole job's
+#                    results (diff equal) or refuses (exit 1 or 2) leaving no
+#                    output, no .merging file and no lock; never a crash or hang
+#   hostile_results  a complete results file with random bytes overwritten, or
+#                    cut at a random length; info, verify and diff end with 0, 1
+#                    or 2 (no crash, no hang, no "internal error"), and --resume
+#                    finishes to the reference or refuses (exit 2) leaving the
+#                    file as it was
+#   resume_overrides a job with --set and --sweep overrides stopped by SIGINT or
+#                    SIGTERM; the resume command ggk printed, pasted into a
+#                    shell, finishes to the overridden job's reference
+# STRESS_SEED=N seeds bash's RANDOM: the same tries again (the files ggk writes
+# are bit-identical, so the same bytes are overwritten). CI runs every class
+# with 2 tries and a fixed seed (.ci/run); a campaign: TRIES 50 or more, no seed.
+# A try that loses is reported with what it did (and, for hostile_results, the
+# input kept under $TMPDIR).
 set -euo pipefail
+if [ -n "${STRESS_SEED:-}" ]; then RANDOM=$STRESS_SEED; fi
+class=kills
+if [ "${1:-}" = "--class" ]; then
+  class=$2
+  shift 2
+fi
 tries=${1:-50}
 ggk=${2:-build/ggk}
 root=$(cd "$(dirname "$0")/.." && pwd)
 scratch=$(mktemp -d "${TMPDIR:-/tmp}/ggk-stress-XXXXXX")
 trap 'rm -rf "$scratch"' EXIT
+limit=120  # seconds: any command of ggk that takes longer hangs
+lost=0
+
 cat >"$scratch/job.toml" <<TOML
 name = "stress"
 task = "maze"
@@ -29,34 +60,219 @@ steps_per_series = 150
 [output]
 file = "$scratch/default.h5"
 TOML
-"$ggk" run "$scratch/job.toml" -j 2 -q -o "$scratch/reference.h5" 2>/dev/null
-signals=(KILL INT TERM)
-survived=0
-for try in $(seq "$tries"); do
-  out=$scratch/x$try.h5
-  signal=${signals[$((RANDOM % 3))]}
-  delay=$(printf '0.%03d' $((RANDOM % 1000)))
-  [ $((RANDOM % 2)) = 0 ] && delay=1.$((RANDOM % 5))
-  set -m  # job control: SIGINT not ignored (ggk keeps an inherited SIG_IGN)
-  "$ggk" run "$scratch/job.toml" -j 2 -q -o "$out" 2>/dev/null & pid=$!
-  set +m
-  sleep "$delay"
-  kill -s "$signal" $pid 2>/dev/null || true
-  wait $pid 2>/dev/null || true
-  # A second kill, of the resume itself, in a third of the tries.
-  if [ $((try % 3)) = 0 ]; then
-    "$ggk" run "$scratch/job.toml" -j 2 -q --resume -o "$out" 2>/dev/null & pid=$!
-    sleep "0.$((RANDOM % 6))"
-    kill -s KILL $pid 2>/dev/null || true
+
+reference=$scratch/reference.h5
+"$ggk" run "$scratch/job.toml" -j 2 -q -o "$reference" 2>/dev/null
+
+# Finishes $1 with --resume (extra arguments: a launcher before ggk) and checks it.
+finished_equal() {  # out [launcher...]
+  local out=$1
+  shift
+  timeout "$limit" "$@" "$ggk" run "$scratch/job.toml" -j 2 -q --resume -o "$out" \
+    2>"$scratch/err" && "$ggk" verify "$out" >/dev/null &&
+    "$ggk" diff "$reference" "$out" >/dev/null
+}
+
+report() {  # class survived tries
+  echo "$1 survived: $2 / $3"
+  [ "$2" = "$3" ] || lost=1
+}
+
+random_delay() {  # 0.000..0.999 s, or 1.0..1.4 s in half the calls
+  if [ $((RANDOM % 2)) = 0 ]; then echo "1.$((RANDOM % 5))"; else printf '0.%03d' $((RANDOM % 1000)); fi
+}
+
+# Overwrites `count` random bytes of a file with random values.
+overwrite_random_bytes() {  # file count
+  local size
+  size=$(stat -c %s "$1")
+  for _ in $(seq "$2"); do
+    printf "\\x$(printf %02x $((RANDOM % 256)))" |
+      dd of="$1" bs=1 seek=$(((RANDOM * 32768 + RANDOM) % size)) conv=notrunc 2>/dev/null
+  done
+}
+
+# 0, 1 and 2 are answers; a signal (>= 124: timeout, crash) or "internal error" is not.
+answered() {  # status errfile
+  [ "$1" -le 2 ] && ! grep -q "internal error" "$2"
+}
+
+kills() {
+  local signals=(KILL INT TERM) survived=0 try out signal delay pid
+  for try in $(seq "$tries"); do
+    out=$scratch/x$try.h5
+    signal=${signals[$((RANDOM % 3))]}
+    delay=$(random_delay)
+    set -m  # job control: SIGINT not ignored (ggk keeps an inherited SIG_IGN)
+    "$ggk" run "$scratch/job.toml" -j 2 -q -o "$out" 2>/dev/null &
+    pid=$!
+    set +m
+    sleep "$delay"
+    kill -s "$signal" $pid 2>/dev/null || true
     wait $pid 2>/dev/null || true
+    if [ $((try % 3)) = 0 ]; then  # a second kill, of the resume itself
+      "$ggk" run "$scratch/job.toml" -j 2 -q --resume -o "$out" 2>/dev/null &
+      pid=$!
+      sleep "0.$((RANDOM % 6))"
+      kill -s KILL $pid 2>/dev/null || true
+      wait $pid 2>/dev/null || true
+    fi
+    if finished_equal "$out"; then
+      survived=$((survived + 1))
+    else
+      echo "kills try $try (SIG$signal after ${delay}s): LOST: $(head -c 400 "$scratch/err")"
+    fi
+    rm -f "$out" "$out.part" "$out.lock"
+  done
+  report kills $survived "$tries"
+}
+
+mpi_kills() {
+  if ! command -v mpirun >/dev/null; then
+    echo "mpi_kills: skipped (no mpirun)"
+    return
   fi
-  if "$ggk" run "$scratch/job.toml" -j 2 -q --resume -o "$out" 2>"$scratch/err" &&
-    "$ggk" verify "$out" >/dev/null && "$ggk" diff "$scratch/reference.h5" "$out" >/dev/null; then
-    survived=$((survived + 1))
-  else
-    echo "try $try (SIG$signal after ${delay}s): LOST: $(head -c 400 "$scratch/err")"
-  fi
-  rm -f "$out" "$out.part" "$out.lock"
-done
-echo "kills survived: $survived / $tries"
-[ "$survived" = "$tries" ]
+  local mpi=(mpirun --allow-run-as-root --oversubscribe -np 3) survived=0 try out what delay pid rank
+  for try in $(seq "$tries"); do
+    out=$scratch/m$try.h5
+    delay=$(random_delay)
+    "${mpi[@]}" "$ggk" run "$scratch/job.toml" -j 1 -q -o "$out" >/dev/null 2>&1 &
+    pid=$!
+    sleep "$delay"
+    case $((RANDOM % 3)) in
+    0) what="SIGINT to mpirun"; kill -s INT $pid 2>/dev/null || true ;;
+    1) what="SIGTERM to mpirun"; kill -s TERM $pid 2>/dev/null || true ;;
+    *)
+      rank=$(pgrep -f "$ggk run $scratch/job.toml -j 1 -q -o $out" | shuf -n 1 || true)
+      what="SIGKILL to rank process ${rank:-none}"
+      [ -n "$rank" ] && kill -s KILL "$rank" 2>/dev/null || true
+      ;;
+    esac
+    timeout "$limit" tail --pid=$pid -f /dev/null || true
+    wait $pid 2>/dev/null || true
+    local launcher=("${mpi[@]}")
+    [ $((try % 2)) = 0 ] && launcher=()
+    if finished_equal "$out" "${launcher[@]}"; then
+      survived=$((survived + 1))
+    else
+      echo "mpi_kills try $try ($what after ${delay}s): LOST: $(head -c 400 "$scratch/err")"
+    fi
+    rm -f "$out" "$out.part" "$out.lock"
+  done
+  report mpi_kills $survived "$tries"
+}
+
+hostile_shards() {
+  local survived=0 try merged s bytes
+  "$ggk" run "$scratch/job.toml" -j 2 -q --runs 0:4 -o "$scratch/first.h5" 2>/dev/null
+  "$ggk" run "$scratch/job.toml" -j 2 -q --runs 4:8 -o "$scratch/second.h5" 2>/dev/null
+  for try in $(seq "$tries"); do
+    cp "$scratch/second.h5" "$scratch/hostile.h5"
+    bytes=$((1 + RANDOM % 4))
+    overwrite_random_bytes "$scratch/hostile.h5" $bytes
+    merged=$scratch/merged$try.h5
+    s=0
+    timeout "$limit" "$ggk" merge "$merged" "$scratch/first.h5" "$scratch/hostile.h5" \
+      >/dev/null 2>"$scratch/err" || s=$?
+    if answered $s "$scratch/err" &&
+      { { [ $s = 0 ] && "$ggk" diff "$reference" "$merged" >/dev/null; } ||
+        { [ $s != 0 ] && [ ! -e "$merged" ] && ! ls "$merged".* >/dev/null 2>&1; }; }; then
+      survived=$((survived + 1))
+    else
+      echo "hostile_shards try $try ($bytes bytes): LOST: status $s: $(head -c 400 "$scratch/err")"
+    fi
+    rm -f "$merged" "$merged".*
+  done
+  report hostile_shards $survived "$tries"
+}
+
+hostile_results() {
+  local survived=0 try out what s ok command
+  for try in $(seq "$tries"); do
+    out=$scratch/h$try.h5
+    cp "$reference" "$out"
+    if [ $((try % 3)) = 0 ]; then
+      what="cut to $((RANDOM % 100)) %"
+      truncate -s $(($(stat -c %s "$out") * ${what//[^0-9]/} / 100)) "$out"
+    else
+      what="$((1 + RANDOM % 8)) bytes overwritten"
+      overwrite_random_bytes "$out" "${what%% *}"
+    fi
+    cp "$out" "$scratch/before.h5"
+    ok=1
+    for command in info verify diff; do
+      s=0
+      if [ $command = diff ]; then
+        timeout "$limit" "$ggk" diff "$reference" "$out" >/dev/null 2>"$scratch/err" || s=$?
+      else
+        timeout "$limit" "$ggk" $command "$out" >/dev/null 2>"$scratch/err" || s=$?
+      fi
+      answered $s "$scratch/err" || {
+        ok=0
+        echo "hostile_results try $try ($what): ggk $command: status $s: $(head -c 300 "$scratch/err")"
+      }
+    done
+    s=0
+    finished_equal "$out" || s=$?
+    if [ $s != 0 ]; then
+      # Refused with exit 2 and the file as it was is an answer; anything else loses.
+      if ! grep -q "^ggk: error:" "$scratch/err" || ! cmp -s "$out" "$scratch/before.h5" ||
+        grep -q "internal error" "$scratch/err"; then
+        ok=0
+        echo "hostile_results try $try ($what): --resume: $(head -c 400 "$scratch/err")"
+      fi
+    fi
+    if [ $ok = 1 ]; then
+      survived=$((survived + 1))
+    else  # kept for a look: the damaged input, and what --resume made of it
+      cp "$scratch/before.h5" "${TMPDIR:-/tmp}/ggk-stress-lost-$try.input.h5"
+      cp "$out" "${TMPDIR:-/tmp}/ggk-stress-lost-$try.resumed.h5"
+      echo "  kept as ${TMPDIR:-/tmp}/ggk-stress-lost-$try.{input,resumed}.h5"
+    fi
+    rm -f "$out" "$out".* "$scratch"/h$try.damaged*.h5
+  done
+  report hostile_results $survived "$tries"
+}
+
+resume_overrides() {
+  local overrides=(--set 'lspi.max_iterations=15' --sweep 'kernels=32,48')
+  local survived=0 try out signal delay pid command s
+  "$ggk" run "$scratch/job.toml" "${overrides[@]}" -j 2 -q -o "$scratch/overridden.h5" 2>/dev/null
+  for try in $(seq "$tries"); do
+    out=$scratch/o$try.h5
+    signal=$([ $((RANDOM % 2)) = 0 ] && echo INT || echo TERM)
+    delay=$(random_delay)
+    set -m
+    "$ggk" run "$scratch/job.toml" "${overrides[@]}" -j 2 -q -o "$out" 2>"$scratch/stopped" &
+    pid=$!
+    set +m
+    sleep "$delay"
+    kill -s "$signal" $pid 2>/dev/null || true
+    wait $pid 2>/dev/null || true
+    # The command ggk printed ("... the job with `CMD`"), or none if it finished.
+    command=$(grep -o 'the job with `[^`]*`' "$scratch/stopped" | head -n 1 |
+      sed 's/^the job with `//; s/`$//' || true)
+    s=0
+    if [ -n "$command" ]; then
+      timeout "$limit" bash -c "$command" >/dev/null 2>"$scratch/err" || s=$?
+    fi
+    if [ $s = 0 ] && "$ggk" verify "$out" >/dev/null 2>&1 &&
+      "$ggk" diff "$scratch/overridden.h5" "$out" >/dev/null 2>&1; then
+      survived=$((survived + 1))
+    else
+      echo "resume_overrides try $try (SIG$signal after ${delay}s): LOST: printed '$command': $(head -c 300 "$scratch/err")"
+    fi
+    rm -f "$out" "$out.part" "$out.lock"
+  done
+  report resume_overrides $survived "$tries"
+}
+
+case $class in
+kills | mpi_kills | hostile_shards | hostile_results | resume_overrides) $class ;;
+all) for c in kills mpi_kills hostile_shards hostile_results resume_overrides; do $c; done ;;
+*)
+  echo "stress_kills.sh: unknown class '$class' (kills, mpi_kills, hostile_shards, hostile_results, resume_overrides, all)" >&2
+  exit 2
+  ;;
+esac
+exit $lost

@@ -31,6 +31,10 @@
 // them a killed writer's file (1.10) does not open without h5clear, and
 // HDF5 1.10.8's H5Ocopy crashes on dense string attributes (1.8).
 // Variable-length strings live in the global heap, which no filter covers.
+// What no checksum covers (names, attributes, shapes) a run's digest does
+// (store/run_digest.hpp). HDF5 1.10.8 itself can crash (SIGSEGV in
+// H5Aiterate) on some damaged object headers: about 1 in 40 files with 1-8
+// random bytes overwritten (scripts/stress_kills.sh hostile_results).
 //
 // Crashes: HDF5 1.10 has no journal. After a kill -9 between two flushes the
 // file opens with everything written up to the last flush() that returned;

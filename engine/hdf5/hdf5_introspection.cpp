@@ -194,6 +194,18 @@ Hdf5File::Values Hdf5File::read_values(std::string_view dataset_path,
     values.type = describe_type(type.get());
     return values;
   }
+  // A damaged header can claim any size: what the dataset stores bounds what
+  // it holds (deflate packs at most 1032:1), so an impossible claim is an error
+  // here, not an allocation of terabytes.
+  const double claimed = static_cast<double>(count) * static_cast<double>(H5Tget_size(type.get()));
+  const double stored = static_cast<double>(H5Dget_storage_size(dataset.get()));
+  if (claimed > 1100.0 * stored + 1048576.0) {
+    throw_store_error(path_, name,
+                      "claims " + std::to_string(count) + " elements (" +
+                          std::to_string(static_cast<long long>(claimed)) + " bytes) but stores " +
+                          std::to_string(static_cast<long long>(stored)) +
+                          " bytes: its shape or type is damaged");
+  }
   read_canonical(
       where, name, type.get(), count,
       [&](hid_t memory_type, void* buffer) {

@@ -34,6 +34,14 @@ std::string host_name() {
 // The start time of process `pid` in clock ticks since boot (field 22 of
 // /proc/<pid>/stat): with the pid, it names one process even when pids are
 // reused. Empty when unknown.
+// The state letter of /proc/<pid>/stat ('R', 'S', 'Z' ...); 0 when unreadable.
+char process_state(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  const std::string text{std::istreambuf_iterator<char>(stat), std::istreambuf_iterator<char>()};
+  const std::size_t name_end = text.rfind(')');
+  return name_end == std::string::npos || name_end + 2 >= text.size() ? '\0' : text[name_end + 2];
+}
+
 std::string process_start(pid_t pid) {
   std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
   const std::string text{std::istreambuf_iterator<char>(stat), std::istreambuf_iterator<char>()};
@@ -94,10 +102,13 @@ Holder parse_holder(const std::string& text) {
 }
 
 // True when the holder is known to be gone: it ran on this host and no process
-// with its pid (and start time) exists any more.
+// with its pid (and start time) exists any more, or only its zombie does (it
+// has exited; its parent has not reaped it yet: the ranks of an mpirun that
+// stopped on Ctrl-C, for some milliseconds after mpirun has returned).
 bool holder_is_gone(const Holder& holder) {
   if (holder.pid <= 0 || holder.host != host_name()) return false;
   if (::kill(holder.pid, 0) != 0 && errno == ESRCH) return true;
+  if (process_state(holder.pid) == 'Z') return true;
   const std::string start = process_start(holder.pid);
   return !holder.process_start.empty() && !start.empty() && start != holder.process_start;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
+#include <new>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -11,6 +12,7 @@
 #include "engine/job/usage_error.hpp"
 #include "engine/store/one_line.hpp"
 #include "engine/store/results_layout.hpp"
+#include "engine/store/run_digest.hpp"
 #include "engine/store/run_store.hpp"
 
 namespace ggk::engine {
@@ -80,6 +82,8 @@ struct Walk {
       }
     } catch (const std::runtime_error& e) {
       problems.push_back(path + ": " + one_line(e.what()));
+    } catch (const std::bad_alloc&) {  // a size no header of ggk's claims
+      problems.push_back(path + ": claims more memory than there is (its size is damaged)");
     }
   }
 };
@@ -142,6 +146,23 @@ std::optional<std::string> shape_problem(const Hdf5File& file, const std::string
   return std::nullopt;
 }
 
+// Empty when the run group has no digest (written before there was one) or
+// its digest matches what the group holds now (run_digest.hpp).
+std::optional<std::string> digest_problem(const Hdf5File& file, const std::string& group) {
+  try {
+    if (file.has_attribute(group, kRunDigestAttribute) &&
+        static_cast<std::uint64_t>(file.read_int64_attribute(group, kRunDigestAttribute)) !=
+            run_digest(file, group)) {
+      return group +
+             ": its names, attributes or shapes differ from its digest (damage that no HDF5 "
+             "checksum covers)";
+    }
+  } catch (const std::runtime_error& e) {
+    return group + ": " + one_line(e.what());
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::optional<std::string> run_shape_problem(const Hdf5File& file, const std::string& task,
@@ -156,9 +177,11 @@ std::optional<std::string> run_shape_problem(const Hdf5File& file, const std::st
 std::optional<std::string> verify_run(const Hdf5File& file, const std::string& task,
                                       std::int32_t run) {
   Walk walk(file);
-  walk.visit(run_group(task, run));
-  if (walk.problems.empty()) return run_shape_problem(file, task, run);
-  return walk.problems.front();
+  const std::string group = run_group(task, run);
+  walk.visit(group);
+  if (!walk.problems.empty()) return walk.problems.front();
+  if (auto problem = run_shape_problem(file, task, run)) return problem;
+  return digest_problem(file, group);
 }
 
 std::optional<std::string> verify_beyond_runs(const Hdf5File& file) {
@@ -202,6 +225,8 @@ bool verify_results(const std::filesystem::path& path, std::ostream& out) {
         if (walk.problems.empty() || walk.problems.size() < kShownProblems) {
           if (auto problem = run_shape_problem(file, location, run)) {
             walk.problems.push_back(*problem);
+          } else if (auto changed = digest_problem(file, run_group(location, run))) {
+            walk.problems.push_back(*changed);
           }
         }
       }

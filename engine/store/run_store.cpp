@@ -13,6 +13,7 @@
 #include <system_error>
 
 #include "engine/store/disk_room.hpp"
+#include "engine/store/run_digest.hpp"
 
 namespace ggk::engine {
 
@@ -362,6 +363,8 @@ void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
     for (const AxisAssignment& value : study_values) axes += (axes.empty() ? "" : ",") + value.key;
     file.write_string_attribute(staging + "/fit_metrics", kStudyAxesAttribute, axes);
   }
+  file.write_int64_attribute(staging, kRunDigestAttribute,
+                             static_cast<std::int64_t>(run_digest(file, staging)));
   file.flush();
   file.move(staging, group);
   file.write_int64_attribute(group, "complete", 1);  // last: the mark that the run is whole

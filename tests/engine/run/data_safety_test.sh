@@ -227,11 +227,11 @@ disk_filled)
     [ "$s" = 0 ] || [ "$s" = 1 ] || fail "moment $eighth: exit status $s: $(cat "$scratch/err")"
     if [ "$s" = 1 ]; then
       filled=$((filled + 1))
-      # One plain reason, not HDF5's dump of the write (which named OUT.part
-      # after the rename, a file descriptor, a buffer address).
+      # One plain reason, not HDF5's dump of the write (the name the file was
+      # opened under, a file descriptor, a buffer address).
       grep -q "No space left on device\|no room to write" "$scratch/err" ||
         fail "moment $eighth: no reason given: $(cat "$scratch/err")"
-      ! grep -q "file descriptor = \|\.part'" "$scratch/err" ||
+      ! grep -q "file descriptor = \|filename = " "$scratch/err" ||
         fail "moment $eighth: a raw HDF5 dump: $(cat "$scratch/err")"
     fi
     if [ -e "$out" ]; then

@@ -76,6 +76,23 @@ TEST_F(OutputLockTest, StaleLockOfADeadProcessOnThisHostIsTakenOver) {
   EXPECT_NE(text_of(lock()).find("pid=" + std::to_string(::getpid())), std::string::npos);
 }
 
+TEST_F(OutputLockTest, LockOfAnExitedProcessNotYetReapedIsStale) {
+  // A zombie: exited, not waited for (an MPI rank whose mpirun returned first).
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  for (int i = 0; i < 200 && ::kill(child, 0) == 0; ++i) {
+    std::ifstream stat("/proc/" + std::to_string(child) + "/stat");
+    std::string text{std::istreambuf_iterator<char>(stat), std::istreambuf_iterator<char>()};
+    if (text.find(") Z") != std::string::npos) break;
+    ::usleep(10000);
+  }
+  write_lock("ggk output lock\nhost=" + host() + "\npid=" + std::to_string(child) +
+             "\nprocess_start=\nsince=earlier\n");
+  EXPECT_TRUE(OutputLock::acquire(results()).held());
+  ::waitpid(child, nullptr, 0);
+}
+
 TEST_F(OutputLockTest, LockOfALiveProcessWithAnotherStartTimeIsStale) {
   // Our own pid, but a start time that is not ours: a reused pid.
   write_lock("ggk output lock\nhost=" + host() + "\npid=" + std::to_string(::getpid()) +

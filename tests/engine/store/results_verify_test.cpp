@@ -3,6 +3,7 @@
 // damage that verify_results and verify_run name by path; other runs stay whole.
 
 #include "engine/store/results_verify.hpp"
+#include "engine/store/run_digest.hpp"
 
 #include <hdf5.h>
 
@@ -139,6 +140,39 @@ TEST_F(ResultsVerifyTest, ARunCutOrReplacedIsNotWhole) {
   EXPECT_NE(verify_run(file, "maze", 1), std::nullopt);
   EXPECT_NE(verify_run(file, "maze", 2), std::nullopt);
   EXPECT_EQ(verify_run(file, "maze", 0), std::nullopt);
+}
+
+// Object headers carry no checksum in the format ggk writes: a renamed
+// attribute, an attribute's changed value or a renamed dataset read back
+// without error. The run's digest finds them; a wall-clock attribute is not
+// part of it.
+TEST_F(ResultsVerifyTest, ChangesNoChecksumCoversDifferFromTheRunsDigest) {
+  const std::string fit = "/maze/run_001/fits/ggk/k_0008_sigma3_brm_lambda1e-06";
+  {
+    Hdf5File file = Hdf5File::open_read_write(dir_ / "out.h5");
+    ASSERT_TRUE(file.has_attribute("/maze/run_000", kRunDigestAttribute));
+    ASSERT_TRUE(file.has_attribute(fit, "fit_seconds"));
+    file.remove_attribute(fit, "fit_seconds");  // wall clock: not in the digest
+    file.write_double_attribute(fit, "fit_seconds", 1234.5);
+    const std::string renamed = "/maze/run_000/fits/ggk/k_0008_sigma3_brm_lambda1e-06";
+    const double stretch = file.read_double_attribute(renamed, "geodesic_stretch");
+    file.remove_attribute(renamed, "geodesic_stretch");
+    file.write_double_attribute(renamed, "geodesic_strftch", stretch);
+    const std::int64_t complete = file.read_int64_attribute("/maze/run_002", "complete");
+    file.move("/maze/run_002/samples/rewards", "/maze/run_002/samples/rewardz");
+    file.remove_attribute("/maze/run_002", "complete");  // (complete: not in the digest)
+    file.write_int64_attribute("/maze/run_002", "complete", complete);
+    file.flush();
+  }
+  const Hdf5File file = Hdf5File::open_read_only(dir_ / "out.h5");
+  EXPECT_EQ(verify_run(file, "maze", 1), std::nullopt);
+  const std::optional<std::string> renamed = verify_run(file, "maze", 0);
+  ASSERT_NE(renamed, std::nullopt);
+  EXPECT_TRUE(contains(*renamed, "/maze/run_000: its names, attributes or shapes differ"));
+  EXPECT_NE(verify_run(file, "maze", 2), std::nullopt);
+  const auto [whole, printed] = verify();
+  EXPECT_FALSE(whole) << printed;
+  EXPECT_TRUE(contains(printed, "/maze/run_000: its names, attributes or shapes differ"));
 }
 
 TEST_F(ResultsVerifyTest, AFileThatIsNoResultsFileIsAUsageError) {
