@@ -22,6 +22,7 @@
 #include "engine/job/study.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/toml_table_reader.hpp"
+#include "engine/single_quoted.hpp"
 
 namespace ggk::engine {
 namespace {

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "engine/job/toml_table_reader.hpp"
+#include "engine/single_quoted.hpp"
 
 namespace ggk::engine {
 namespace {

@@ -16,6 +16,7 @@
 #include "engine/job/kernel_width.hpp"
 #include "engine/job/task_table.hpp"
 #include "engine/job/walk_sizes.hpp"
+#include "engine/single_quoted.hpp"
 #include "engine/tasks/geometry_keys.hpp"
 #include "sims/khepera/khepera.hpp"
 
