@@ -202,6 +202,12 @@ void Hdf5File::require_new_object(std::string_view object_path) const {
   }
 }
 
+std::string Hdf5File::new_object_path(std::string_view path) const {
+  std::string name = normalized(path, path_);
+  require_new_object(name);
+  return name;
+}
+
 bool Hdf5File::exists(std::string_view path) const {
   return object_exists(Context{id_, path_}, normalized(path, path_));
 }
