@@ -1,5 +1,5 @@
 # Common settings for every ggk target: C++20, warnings, optional sanitizers.
-# Kept per target (no global flags), as STYLE.md asks.
+# Kept per target (no global flags), as CONTRIBUTING.md asks.
 
 function(ggk_configure_target target)
   target_compile_features(${target} PUBLIC cxx_std_20)

@@ -1,8 +1,8 @@
 #pragma once
 // Diagnostics that say whether geodesic Gaussian kernels can differ from ordinary
-// ones on a given sample graph (issue 11): the graph's size and degree, how much
-// longer shortest paths are than straight lines between kernel centres, and how
-// far the two kernels' values lie apart. Pure functions, no I/O.
+// ones on a given sample graph: the graph's size and degree, how much longer
+// shortest paths are than straight lines between kernel centres, and how far the
+// two kernels' values lie apart. Pure functions, no I/O.
 //
 // Definitions (the summary columns of the same names, engine/tasks/README.md):
 //   edges             undirected edges of the graph (node pairs joined by an arc).

@@ -103,33 +103,23 @@ void write_matrix_of(const Context& where, const std::string& path, std::int64_t
 // ---------------------------------------------------------------- numeric
 
 void Hdf5File::write_vector(std::string_view path, std::span<const double> values) {
-  const std::string name = normalized(path, path_);
-  require_new_object(name);
-  write_vector_of(Context{id_, path_}, name, values, gzip_level_);
+  write_vector_of(Context{id_, path_}, new_object_path(path), values, gzip_level_);
 }
 
 void Hdf5File::write_vector(std::string_view path, std::span<const float> values) {
-  const std::string name = normalized(path, path_);
-  require_new_object(name);
-  write_vector_of(Context{id_, path_}, name, values, gzip_level_);
+  write_vector_of(Context{id_, path_}, new_object_path(path), values, gzip_level_);
 }
 
 void Hdf5File::write_vector(std::string_view path, std::span<const std::int32_t> values) {
-  const std::string name = normalized(path, path_);
-  require_new_object(name);
-  write_vector_of(Context{id_, path_}, name, values, gzip_level_);
+  write_vector_of(Context{id_, path_}, new_object_path(path), values, gzip_level_);
 }
 
 void Hdf5File::write_vector(std::string_view path, std::span<const std::int64_t> values) {
-  const std::string name = normalized(path, path_);
-  require_new_object(name);
-  write_vector_of(Context{id_, path_}, name, values, gzip_level_);
+  write_vector_of(Context{id_, path_}, new_object_path(path), values, gzip_level_);
 }
 
 void Hdf5File::write_vector(std::string_view path, std::span<const std::uint8_t> values) {
-  const std::string name = normalized(path, path_);
-  require_new_object(name);
-  write_vector_of(Context{id_, path_}, name, values, gzip_level_);
+  write_vector_of(Context{id_, path_}, new_object_path(path), values, gzip_level_);
 }
 
 template <class T>
@@ -146,16 +136,12 @@ template std::vector<std::uint8_t> Hdf5File::read_vector<std::uint8_t>(std::stri
 
 void Hdf5File::write_matrix(std::string_view path, std::int64_t rows, std::int64_t cols,
                             std::span<const double> values) {
-  const std::string name = normalized(path, path_);
-  require_new_object(name);
-  write_matrix_of(Context{id_, path_}, name, rows, cols, values, gzip_level_);
+  write_matrix_of(Context{id_, path_}, new_object_path(path), rows, cols, values, gzip_level_);
 }
 
 void Hdf5File::write_matrix(std::string_view path, std::int64_t rows, std::int64_t cols,
                             std::span<const std::int32_t> values) {
-  const std::string name = normalized(path, path_);
-  require_new_object(name);
-  write_matrix_of(Context{id_, path_}, name, rows, cols, values, gzip_level_);
+  write_matrix_of(Context{id_, path_}, new_object_path(path), rows, cols, values, gzip_level_);
 }
 
 template <class T>

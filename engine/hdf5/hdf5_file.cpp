@@ -102,9 +102,9 @@ Hdf5File Hdf5File::create(const std::filesystem::path& path, CreateMode mode) {
     } else if (mode == CreateMode::kFailIfExists && fs::exists(path, error)) {
       problem = " (file exists)";
     } else if (path.has_parent_path() && !fs::is_directory(path.parent_path(), error)) {
-      problem = " (no such directory " + in_quotes(path.parent_path().string()) + ")";
+      problem = " (no such directory " + single_quoted(path.parent_path().string()) + ")";
     }
-    throw std::runtime_error("cannot create HDF5 file " + in_quotes(path.string()) + problem +
+    throw std::runtime_error("cannot create HDF5 file " + single_quoted(path.string()) + problem +
                              ": " + reason);
   }
   return Hdf5File(path, id, false);
@@ -115,7 +115,7 @@ Hdf5File Hdf5File::open(const std::filesystem::path& path, bool read_only) {
   const hid_t id = H5Fopen(path.c_str(), read_only ? H5F_ACC_RDONLY : H5F_ACC_RDWR, H5P_DEFAULT);
   if (id < 0) {
     const std::string reason = take_hdf5_reason();
-    throw std::runtime_error("cannot open HDF5 file " + in_quotes(path.string()) +
+    throw std::runtime_error("cannot open HDF5 file " + single_quoted(path.string()) +
                              file_problem(path) + ": " + reason);
   }
   return Hdf5File(path, id, read_only);
@@ -163,7 +163,7 @@ Hdf5File Hdf5File::reopen_for_writer(const std::filesystem::path& path) {
   check(H5Pset_file_locking(fapl.get(), false, true), where, "switch off file locking for", "/");
   const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get());
   if (id < 0) {
-    throw std::runtime_error("cannot open HDF5 file " + in_quotes(path.string()) +
+    throw std::runtime_error("cannot open HDF5 file " + single_quoted(path.string()) +
                              file_problem(path) + ": " + take_hdf5_reason());
   }
   return Hdf5File(path, id, false);
@@ -198,8 +198,14 @@ void Hdf5File::require_new_object(std::string_view object_path) const {
   if (lookup.found) throw_store_error(path_, object_path, "already exists");
   if (!lookup.blocking_parent.empty()) {
     throw_store_error(path_, object_path,
-                      "parent " + in_quotes(lookup.blocking_parent) + " is not a group");
+                      "parent " + single_quoted(lookup.blocking_parent) + " is not a group");
   }
+}
+
+std::string Hdf5File::new_object_path(std::string_view path) const {
+  std::string name = normalized(path, path_);
+  require_new_object(name);
+  return name;
 }
 
 bool Hdf5File::exists(std::string_view path) const {
@@ -249,7 +255,7 @@ void Hdf5File::move(std::string_view from, std::string_view to) {
   require_new_object(target);
   const Handle lcpl = intermediate_groups_lcpl(where, target);
   check(H5Lmove(id_, source.c_str(), id_, target.c_str(), lcpl.get(), H5P_DEFAULT), where,
-        "move " + in_quotes(source) + " to", target);
+        "move " + single_quoted(source) + " to", target);
 }
 
 std::vector<std::int64_t> Hdf5File::dataset_shape(std::string_view path) const {

@@ -309,6 +309,9 @@ class Hdf5File {
 
   // Throws unless the file is writable and object_path does not exist yet.
   void require_new_object(std::string_view object_path) const;
+  // The absolute path of a new object at `path` (relative to the root), after
+  // require_new_object.
+  std::string new_object_path(std::string_view path) const;
 
   std::filesystem::path path_;
   std::int64_t id_ = -1;  // the hid_t of the open file; -1 once moved from

@@ -31,7 +31,7 @@ Hdf5File Hdf5File::create_in_memory(const std::string& name) {
   const Handle access = in_memory_access(std::filesystem::path(name));
   const hid_t id = H5Fcreate(name.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get());
   if (id < 0) {
-    throw std::runtime_error("cannot create in-memory HDF5 file " + in_quotes(name) + ": " +
+    throw std::runtime_error("cannot create in-memory HDF5 file " + single_quoted(name) + ": " +
                              take_hdf5_reason());
   }
   return Hdf5File(name, id, false);
@@ -67,7 +67,7 @@ Hdf5File Hdf5File::open_image(std::span<const unsigned char> image, const std::s
         where, "hand over the image of", "/");
   const hid_t id = H5Fopen(name.c_str(), H5F_ACC_RDONLY, access.get());
   if (id < 0) {
-    throw std::runtime_error("cannot open HDF5 image " + in_quotes(name) + " (" +
+    throw std::runtime_error("cannot open HDF5 image " + single_quoted(name) + " (" +
                              std::to_string(image.size()) + " bytes): " + take_hdf5_reason());
   }
   return Hdf5File(name, id, true);
@@ -82,7 +82,7 @@ void Hdf5File::copy_from(const Hdf5File& source, std::string_view source_path,
   const Context where{id_, path_};
   const Handle create_parents = intermediate_groups_lcpl(where, to);
   check(H5Ocopy(source.id_, from.c_str(), id_, to.c_str(), H5P_DEFAULT, create_parents.get()),
-        where, "copy " + in_quotes(source.path_.string() + ":" + from) + " to", to);
+        where, "copy " + single_quoted(source.path_.string() + ":" + from) + " to", to);
 }
 
 }  // namespace ggk::engine

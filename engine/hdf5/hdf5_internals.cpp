@@ -38,7 +38,7 @@ std::string plain_system_error(const std::string& description) {
 }
 
 std::string file_prefix(const fs::path& file) {
-  return "HDF5 file " + in_quotes(file.string());
+  return "HDF5 file " + single_quoted(file.string());
 }
 
 }  // namespace
@@ -67,26 +67,15 @@ std::string take_hdf5_reason() {
   return reason;
 }
 
-std::string in_quotes(std::string_view text) {
-  // Appended piece by piece: GCC 12 at -O3 reports a false -Wrestrict on
-  // "'" + std::string(...) (GCC bug 105329).
-  std::string result;
-  result.reserve(text.size() + 2);
-  result += '\'';
-  result += text;
-  result += '\'';
-  return result;
-}
-
 [[noreturn]] void throw_hdf5_error(const fs::path& file, std::string_view what,
                                    std::string_view object_path) {
   throw std::runtime_error(file_prefix(file) + ": cannot " + std::string(what) + " " +
-                           in_quotes(object_path) + ": " + take_hdf5_reason());
+                           single_quoted(object_path) + ": " + take_hdf5_reason());
 }
 
 [[noreturn]] void throw_store_error(const fs::path& file, std::string_view object_path,
                                     std::string_view problem) {
-  throw std::runtime_error(file_prefix(file) + ": " + in_quotes(object_path) + ": " +
+  throw std::runtime_error(file_prefix(file) + ": " + single_quoted(object_path) + ": " +
                            std::string(problem));
 }
 

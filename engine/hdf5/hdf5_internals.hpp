@@ -23,6 +23,8 @@
 #include <utility>
 #include <vector>
 
+#include "engine/single_quoted.hpp"
+
 namespace ggk::engine::hdf5_internals {
 
 namespace fs = std::filesystem;
@@ -37,8 +39,6 @@ void disable_automatic_error_printing();
 // HDF5's reason for the last failure, from its error stack (which is then
 // cleared): the outermost description says what failed, the innermost why.
 std::string take_hdf5_reason();
-
-std::string in_quotes(std::string_view text);
 
 // A failure of an HDF5 call: names the file, what was attempted, the object
 // and HDF5's reason.

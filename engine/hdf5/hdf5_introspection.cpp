@@ -92,7 +92,7 @@ void read_canonical(const Context& where, const std::string& path, hid_t file_ty
       const Handle single = checked(H5Tcreate(H5T_COMPOUND, H5Tget_size(memory_type)), H5Tclose,
                                     where, "create a member type for", path);
       check(H5Tinsert(single.get(), name.c_str(), 0, memory_type), where,
-            "set up member " + in_quotes(name) + " of", path);
+            "set up member " + single_quoted(name) + " of", path);
       read(single.get(), buffer);
     };
     append_values(where, path, name, member.get(), count, read_member, values);
@@ -224,13 +224,13 @@ Hdf5File::Values Hdf5File::read_attribute_values(std::string_view object_path,
   require_existing(where, object);
   const Handle attribute = checked(
       H5Aopen_by_name(id_, object.c_str(), attribute_name_text.c_str(), H5P_DEFAULT, H5P_DEFAULT),
-      H5Aclose, where, "open attribute " + in_quotes(attribute_name_text) + " of", object);
+      H5Aclose, where, "open attribute " + single_quoted(attribute_name_text) + " of", object);
   const Handle type =
       checked(H5Aget_type(attribute.get()), H5Tclose, where,
-              "get the type of attribute " + in_quotes(attribute_name_text) + " of", object);
-  const Handle space =
-      checked(H5Aget_space(attribute.get()), H5Sclose, where,
-              "get the dataspace of attribute " + in_quotes(attribute_name_text) + " of", object);
+              "get the type of attribute " + single_quoted(attribute_name_text) + " of", object);
+  const Handle space = checked(
+      H5Aget_space(attribute.get()), H5Sclose, where,
+      "get the dataspace of attribute " + single_quoted(attribute_name_text) + " of", object);
   Values values;
   std::size_t count = 0;
   values.shape = shape_of(where, space, object, count);
@@ -242,7 +242,7 @@ Hdf5File::Values Hdf5File::read_attribute_values(std::string_view object_path,
       where, object, type.get(), count,
       [&](hid_t memory_type, void* buffer) {
         check(H5Aread(attribute.get(), memory_type, buffer), where,
-              "read attribute " + in_quotes(attribute_name_text) + " of", object);
+              "read attribute " + single_quoted(attribute_name_text) + " of", object);
       },
       {}, values);
   return values;

@@ -83,7 +83,7 @@ void check_columns(const Context& where, const std::string& path,
     }
     for (std::size_t j = 0; j < i; ++j) {
       if (columns[j].name == column.name) {
-        throw_store_error(where.file_path, path, "duplicate column " + in_quotes(column.name));
+        throw_store_error(where.file_path, path, "duplicate column " + single_quoted(column.name));
       }
     }
   }
@@ -120,7 +120,7 @@ Handle row_type(const Context& where, const std::string& path, std::span<const T
         break;
       }
     }
-    check(status, where, "add column " + in_quotes(column.name) + " to", path);
+    check(status, where, "add column " + single_quoted(column.name) + " to", path);
   }
   return compound;
 }
@@ -157,7 +157,7 @@ std::vector<TableColumn> table_columns(const Context& where, const std::string& 
       column.string_size = H5Tis_variable_str(member.get()) > 0 ? 0 : H5Tget_size(member.get());
     } else {
       throw_store_error(where.file_path, path,
-                        "column " + in_quotes(column.name) + " has unsupported type " +
+                        "column " + single_quoted(column.name) + " has unsupported type " +
                             describe_type(member.get()));
     }
     columns.push_back(std::move(column));
@@ -185,7 +185,7 @@ std::vector<unsigned char> pack_rows(const Context& where, const std::string& pa
       const auto wrong = [&](const std::string& problem) {
         throw_store_error(
             where.file_path, path,
-            "row " + std::to_string(r) + ", column " + in_quotes(column.name) + ": " + problem);
+            "row " + std::to_string(r) + ", column " + single_quoted(column.name) + ": " + problem);
       };
       if (row[c].index() != static_cast<std::size_t>(column.type)) {
         wrong(std::string("expected a value of type ") + column_type_name(column.type));

@@ -45,17 +45,6 @@ std::string shortened(std::string_view text, std::size_t max_characters) {
   return std::string(text.substr(0, cut)) + "\u2026(" + std::to_string(characters) + " characters)";
 }
 
-std::string single_quoted(std::string_view text) {
-  // Built by appending: GCC 12 at -O3 warns (-Wrestrict, a false positive) on
-  // "'" + std::string.
-  std::string result;
-  result.reserve(text.size() + 2);
-  result += '\'';
-  result += text;
-  result += '\'';
-  return result;
-}
-
 JobError::JobError(std::string file, JobFileLocation location, std::string key_path,
                    std::string detail)
     : std::runtime_error(format_message(file, location, key_path, detail)),

@@ -46,9 +46,6 @@ class JobError : public std::runtime_error {
 // "[sweep] kernels" for "sweep.kernels", "runs" for "runs".
 std::string display_key(const std::string& key_path);
 
-// 'text', in single quotes, as messages show file names and keys.
-std::string single_quoted(std::string_view text);
-
 // The longest value a message echoes, in characters (UTF-8 code points).
 inline constexpr std::size_t kMaxEchoedCharacters = 80;
 

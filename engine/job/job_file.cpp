@@ -22,6 +22,7 @@
 #include "engine/job/study.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/toml_table_reader.hpp"
+#include "engine/single_quoted.hpp"
 
 namespace ggk::engine {
 namespace {
@@ -33,7 +34,7 @@ constexpr std::size_t kMaxNameCharacters = 100;
 // [lspi] max_iterations: policy iteration settles in a few to tens of evaluations
 // (the paper's jobs cap it at 20; a fit still changing then is cycling between
 // near-equal policies, not converging). 1000 leaves room for studies of the
-// stopping rules; beyond it a job is one that never ends (issue 23).
+// stopping rules; beyond it a job is one that never ends.
 constexpr IntegerRange kMaxIterationsRange{1, 1000};
 // The longest file name (one path component) Linux file systems take, NAME_MAX.
 constexpr std::size_t kMaxFileNameBytes = 255;

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "engine/job/toml_table_reader.hpp"
+#include "engine/single_quoted.hpp"
 
 namespace ggk::engine {
 namespace {
@@ -31,6 +32,14 @@ std::string size_problem(std::int64_t size, std::int64_t max_bytes) {
                                 : std::to_string(max_bytes) + " bytes";
   return "is " + std::to_string(size) + " bytes, more than the limit of " + limit +
          " for a job file or a file it names";
+}
+
+// Why a file of this kind and size cannot be read (type_problem, size_problem),
+// or "" for a regular file of at most max_bytes.
+std::string kind_or_size_problem(const struct stat& info, std::int64_t max_bytes) {
+  if (!S_ISREG(info.st_mode)) return type_problem(info.st_mode);
+  if (info.st_size > max_bytes) return size_problem(info.st_size, max_bytes);
+  return "";
 }
 
 // Why stat(2) or open(2) failed, for error number `error` on `path`.
@@ -79,14 +88,8 @@ RegularFileText read_regular_file(const std::filesystem::path& path, std::int64_
     result.problem = open_problem(errno, path);
     return result;
   }
-  if (!S_ISREG(info.st_mode)) {
-    result.problem = type_problem(info.st_mode);
-    return result;
-  }
-  if (info.st_size > max_bytes) {
-    result.problem = size_problem(info.st_size, max_bytes);
-    return result;
-  }
+  result.problem = kind_or_size_problem(info, max_bytes);
+  if (!result.problem.empty()) return result;
   // Then by descriptor: the name may have been replaced since.
   const Descriptor file(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY));
   if (file.get() < 0) {
@@ -97,14 +100,8 @@ RegularFileText read_regular_file(const std::filesystem::path& path, std::int64_
     result.problem = std::string("cannot be read: ") + std::strerror(errno);
     return result;
   }
-  if (!S_ISREG(info.st_mode)) {
-    result.problem = type_problem(info.st_mode);
-    return result;
-  }
-  if (info.st_size > max_bytes) {
-    result.problem = size_problem(info.st_size, max_bytes);
-    return result;
-  }
+  result.problem = kind_or_size_problem(info, max_bytes);
+  if (!result.problem.empty()) return result;
   // Read at most max_bytes + 1 bytes: a file that grows while it is read is
   // refused rather than followed.
   std::string text;

@@ -27,7 +27,7 @@ using TaskTableParser = std::any (*)(const TomlTableReader& job,
 // a start. The paper tests 100 steps (arm) and 150 (Khepera); a policy that
 // reaches a goal of a deterministic task visits no state twice, and 10^6 steps
 // cover the longest such path of a 1000 x 1000 maze. Beyond it a job is one
-// that never ends (issue 23), not a larger study.
+// that never ends, not a larger study.
 inline constexpr IntegerRange kTestMaxStepsRange{1, 1'000'000};
 
 struct TaskTable {

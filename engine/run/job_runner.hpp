@@ -15,9 +15,9 @@
 #include <tbb/global_control.h>
 
 #include "engine/job/job_spec.hpp"
-#include "engine/job/run_record.hpp"
 #include "engine/job/study.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/tasks/run_record.hpp"
 
 namespace ggk::engine {
 

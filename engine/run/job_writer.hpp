@@ -24,13 +24,13 @@
 #include <vector>
 
 #include "engine/job/job_spec.hpp"
-#include "engine/job/run_record.hpp"
 #include "engine/job/study.hpp"
 #include "engine/run/open_results.hpp"
 #include "engine/run/progress.hpp"
 #include "engine/run/resume_command.hpp"
 #include "engine/run/stop_signals.hpp"
 #include "engine/store/store_writer.hpp"
+#include "engine/tasks/run_record.hpp"
 
 namespace ggk::engine {
 

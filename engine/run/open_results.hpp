@@ -10,7 +10,7 @@
 //    old results stay as they were, and a kill, Ctrl-C, full disk or error
 //    leaves them untouched (the .part file of a dead ggk is removed by the next
 //    ggk on that output). So a kill never leaves an empty results file;
-//    `--resume` on an empty one (left by ggk before .part files) starts it afresh;
+//    `--resume` on an empty one (made by something else) starts it afresh;
 //  - --resume continues a results file of the same job: the jobs are compared
 //    as parsed TOML (a comment edit does not matter; a changed key is named),
 //    the input files by content; the runs marked complete are read in full

@@ -11,7 +11,7 @@
 #include <span>
 #include <string_view>
 
-#include "engine/job/run_record.hpp"
+#include "engine/tasks/run_record.hpp"
 
 namespace ggk::engine {
 

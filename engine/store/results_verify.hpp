@@ -6,9 +6,9 @@
 // damaged, never wrong numbers read in silence.
 //
 // `ggk verify FILE` (verify_results), and `ggk run --resume`, which checks each
-// run it keeps (verify_run) and computes a damaged one again. Files written
-// before ggk added checksums are read the same way, but only damage that makes
-// HDF5 fail is found in them.
+// run it keeps (verify_run) and computes a damaged one again. Datasets without
+// checksums are read the same way, but only damage that makes HDF5 fail is found
+// in them.
 
 #include <cstdint>
 #include <filesystem>

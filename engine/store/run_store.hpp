@@ -27,7 +27,7 @@
 
 #include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_spec.hpp"
-#include "engine/job/run_record.hpp"
+#include "engine/tasks/run_record.hpp"
 
 namespace ggk::engine {
 

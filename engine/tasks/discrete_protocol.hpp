@@ -21,10 +21,10 @@
 #include <vector>
 
 #include "engine/job/job_spec.hpp"
-#include "engine/job/run_record.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/tasks/graph_protocol.hpp"
 #include "engine/tasks/run_memory.hpp"
+#include "engine/tasks/run_record.hpp"
 #include "kernels/eigen_types.hpp"
 #include "kernels/random_stream.hpp"
 

@@ -20,8 +20,8 @@
 #include <utility>
 #include <vector>
 
-#include "engine/job/run_record.hpp"
 #include "engine/job/sweep.hpp"
+#include "engine/tasks/run_record.hpp"
 #include "kernels/csr_graph.hpp"
 #include "kernels/eigen_types.hpp"
 

@@ -9,10 +9,10 @@
 #include <string_view>
 
 #include "engine/job/job_spec.hpp"
-#include "engine/job/run_record.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/task_table.hpp"
 #include "engine/tasks/run_memory.hpp"
+#include "engine/tasks/run_record.hpp"
 
 namespace ggk::engine {
 

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "engine/job/job_spec.hpp"
-#include "engine/job/run_record.hpp"
 #include "engine/tasks/discrete_protocol.hpp"
+#include "engine/tasks/run_record.hpp"
 #include "engine/tasks/task_definition.hpp"
 #include "sims/arm/arm.hpp"
 

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "engine/job/run_record.hpp"
+#include "engine/tasks/run_record.hpp"
 #include "sims/khepera/khepera.hpp"
 
 namespace ggk::engine {

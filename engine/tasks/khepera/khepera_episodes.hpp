@@ -10,8 +10,8 @@
 #include <span>
 #include <vector>
 
-#include "engine/job/run_record.hpp"
 #include "engine/job/sweep.hpp"
+#include "engine/tasks/run_record.hpp"
 #include "kernels/eigen_types.hpp"
 #include "kernels/random_stream.hpp"
 #include "kernels/sample_batch.hpp"

@@ -16,6 +16,7 @@
 #include "engine/job/kernel_width.hpp"
 #include "engine/job/task_table.hpp"
 #include "engine/job/walk_sizes.hpp"
+#include "engine/single_quoted.hpp"
 #include "engine/tasks/geometry_keys.hpp"
 #include "sims/khepera/khepera.hpp"
 
@@ -56,7 +57,7 @@ constexpr std::array<std::string_view, 2> kInitializations = {"principal_compone
 constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
 // Evaluation episodes per fit: the paper's jobs use 10 (the noise of sensors and
 // wheels averaged out); 10^4 is a thousand times that, and beyond it a job is
-// one that never ends (issue 23).
+// one that never ends.
 constexpr IntegerRange kTestEpisodesRange{1, 10'000};
 // Batch SOM epochs: the map settles in tens (the paper's jobs use 30); each epoch
 // reads every reading against every unit, so 10^4 epochs already cost minutes

@@ -179,9 +179,10 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point,
 }
 
 // The fits of a run. The fits of one (basis, width, kernel count) differ only in
-// the solver: they share one state-kernel table (built once, freed when they
-// are done, so no more tables are alive than before). The kernel gap's
-// per-centre sums are formed first, once per width, for the largest valid count.
+// the solver: they share one state-kernel table (built once, freed when they are
+// done, so sharing never holds more tables than a table per fit would). The
+// kernel gap's per-centre sums are formed first, once per width, for the largest
+// valid count.
 std::vector<FitRecord> fit_points(RunContext& ctx, std::span<const SweepPoint> points) {
   for (const SweepPoint& point : points) {
     if (point.kernels > ctx.graph.nodes) continue;

@@ -20,9 +20,9 @@
 #include <vector>
 
 #include "engine/job/job_spec.hpp"
-#include "engine/job/run_record.hpp"
 #include "engine/tasks/graph_protocol.hpp"
 #include "engine/tasks/khepera/khepera_task_config.hpp"
+#include "engine/tasks/run_record.hpp"
 #include "engine/tasks/task_definition.hpp"
 
 namespace ggk::engine {

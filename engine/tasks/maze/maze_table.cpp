@@ -12,6 +12,7 @@
 #include "engine/job/kernel_width.hpp"
 #include "engine/job/task_table.hpp"
 #include "engine/job/walk_sizes.hpp"
+#include "engine/single_quoted.hpp"
 #include "sims/maze/maze.hpp"
 
 namespace ggk::engine {

@@ -5,8 +5,8 @@
 #include <span>
 
 #include "engine/job/job_spec.hpp"
-#include "engine/job/run_record.hpp"
 #include "engine/tasks/discrete_protocol.hpp"
+#include "engine/tasks/run_record.hpp"
 #include "engine/tasks/task_definition.hpp"
 #include "sims/maze/maze.hpp"
 #include "sims/maze/maze_config.hpp"

@@ -4,7 +4,7 @@
 
 #include <cstddef>
 
-#include "engine/job/run_record.hpp"
+#include "engine/tasks/run_record.hpp"
 
 namespace ggk::engine {
 

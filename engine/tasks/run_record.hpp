@@ -1,6 +1,7 @@
 #pragma once
-// Everything one run produces, as plain data, on its way from the task protocol
-// (computed in parallel) to the store (written by the one writer thread).
+// Everything one run produces, as plain data: what a task's compute_run returns
+// (computed in parallel) and the store writes (on the one writer thread). Includes
+// nothing else of tasks/, so the store may read it without knowing any task.
 
 #include <cstdint>
 #include <string>
