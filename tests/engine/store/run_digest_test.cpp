@@ -1,0 +1,52 @@
+// A run's digest (engine/store/run_digest.hpp): what it covers and leaves out.
+// That verify finds a changed digest: results_verify_test.cpp.
+
+#include "engine/store/run_digest.hpp"
+
+#include <gtest/gtest.h>
+
+#include "engine/run/job_runner.hpp"
+#include "engine/store/run_store.hpp"
+#include "support/determinism_job.hpp"
+
+namespace ggk::engine {
+namespace {
+
+using namespace test_support;
+
+TEST_F(JobRunnerTest, ARunsDigestCoversNamesAttributesAndShapesOnly) {
+  const JobSpec job = load_job("job.toml", determinism_job(dir_ / "out.h5"));
+  run_job(job, options_for(job.output.file));
+  const std::string run = "/maze/run_000";
+  const std::string fit = run + "/fits/ggk/k_0008_sigma3_brm_lambda1e-06";
+  Hdf5File file = Hdf5File::open_read_write(job.output.file);
+  const std::uint64_t stored =
+      static_cast<std::uint64_t>(file.read_int64_attribute(run, kRunDigestAttribute));
+  EXPECT_EQ(run_digest(file, run), stored);  // as written (under /.staging, then moved)
+  EXPECT_NE(run_digest(file, "/maze/run_001"), stored);
+
+  // Left out: the wall clock and the group's own marks.
+  file.remove_attribute(fit, "fit_seconds");
+  file.write_double_attribute(fit, "fit_seconds", 99.0);
+  file.remove_attribute(run, "complete");
+  EXPECT_EQ(run_digest(file, run), stored);
+
+  // Covered: an attribute's value, a name, a dataset's shape.
+  const double stretch = file.read_double_attribute(fit, "geodesic_stretch");
+  file.remove_attribute(fit, "geodesic_stretch");
+  file.write_double_attribute(fit, "geodesic_stretch", stretch + 1.0);
+  EXPECT_NE(run_digest(file, run), stored);
+  file.remove_attribute(fit, "geodesic_stretch");
+  file.write_double_attribute(fit, "geodesic_stretch", stretch);
+  EXPECT_EQ(run_digest(file, run), stored);
+  file.move(run + "/graph", run + "/graph_");
+  EXPECT_NE(run_digest(file, run), stored);
+  file.move(run + "/graph_", run + "/graph");
+  const std::vector<double> weights = file.read_vector<double>(fit + "/weights");
+  file.remove(fit + "/weights");
+  file.write_vector(fit + "/weights", std::vector<double>(weights.begin(), weights.end() - 1));
+  EXPECT_NE(run_digest(file, run), stored);
+}
+
+}  // namespace
+}  // namespace ggk::engine
