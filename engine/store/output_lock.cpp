@@ -31,28 +31,29 @@ std::string host_name() {
   return buffer;
 }
 
-// The start time of process `pid` in clock ticks since boot (field 22 of
-// /proc/<pid>/stat): with the pid, it names one process even when pids are
-// reused. Empty when unknown.
-// The state letter of /proc/<pid>/stat ('R', 'S', 'Z' ...); 0 when unreadable.
-char process_state(pid_t pid) {
-  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
-  const std::string text{std::istreambuf_iterator<char>(stat), std::istreambuf_iterator<char>()};
-  const std::size_t name_end = text.rfind(')');
-  return name_end == std::string::npos || name_end + 2 >= text.size() ? '\0' : text[name_end + 2];
-}
-
-std::string process_start(pid_t pid) {
+// Field `index` (from 3: the state) of /proc/<pid>/stat; empty when unknown.
+std::string stat_field(pid_t pid, int index) {
   std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
   const std::string text{std::istreambuf_iterator<char>(stat), std::istreambuf_iterator<char>()};
   const std::size_t name_end = text.rfind(')');  // the command name may hold spaces
   if (name_end == std::string::npos) return {};
   std::istringstream fields(text.substr(name_end + 1));
   std::string field;
-  for (int index = 3; index <= 22 && fields >> field; ++index) {
-    if (index == 22) return field;
+  for (int at = 3; at <= index && fields >> field; ++at) {
+    if (at == index) return field;
   }
   return {};
+}
+
+// The start time of process `pid` in clock ticks since boot (field 22): with the
+// pid, it names one process even when pids are reused. Empty when unknown.
+std::string process_start(pid_t pid) {
+  return stat_field(pid, 22);
+}
+
+// True when `pid` has exited but its parent has not reaped it (state Z).
+bool is_zombie(pid_t pid) {
+  return stat_field(pid, 3) == "Z";
 }
 
 std::optional<std::string> read_text(const fs::path& path) {
@@ -108,7 +109,7 @@ Holder parse_holder(const std::string& text) {
 bool holder_is_gone(const Holder& holder) {
   if (holder.pid <= 0 || holder.host != host_name()) return false;
   if (::kill(holder.pid, 0) != 0 && errno == ESRCH) return true;
-  if (process_state(holder.pid) == 'Z') return true;
+  if (is_zombie(holder.pid)) return true;
   const std::string start = process_start(holder.pid);
   return !holder.process_start.empty() && !start.empty() && start != holder.process_start;
 }
