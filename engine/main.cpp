@@ -23,6 +23,8 @@
 #include "engine/job/usage_error.hpp"
 #include "engine/run/address_space.hpp"
 #include "engine/run/cpu_affinity.hpp"
+#include "engine/run/isolated_merge.hpp"
+#include "engine/run/isolated_reading.hpp"
 #include "engine/run/job_runner.hpp"
 #include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
@@ -354,15 +356,32 @@ int main(int argc, char** argv) {
     }
     if (quiet_rank) return 0;  // the other commands run on rank 0 alone
     if (*validate) return validate_command(job_path, output, load);
+    // The commands that read files ggk did not just write read them in a child
+    // process: a file that crashes the HDF5 library is a damaged file
+    // (run/isolated_reading.hpp).
     if (*info) {
-      engine::print_results_info(info_path, std::cout,
-                                 info_csv ? engine::InfoFormat::kCsv : engine::InfoFormat::kText,
-                                 engine::metric_kind);
-      return 0;
+      return engine::read_isolated({info_path}, [&] {
+        engine::print_results_info(info_path, std::cout,
+                                   info_csv ? engine::InfoFormat::kCsv : engine::InfoFormat::kText,
+                                   engine::metric_kind);
+        return 0;
+      });
     }
-    if (*verify) return engine::verify_results(verify_path, std::cout) ? 0 : 1;
+    if (*verify) {
+      try {
+        return engine::read_isolated(
+            {verify_path}, [&] { return engine::verify_results(verify_path, std::cout) ? 0 : 1; });
+      } catch (const engine::ReadingCrash& e) {
+        std::cout << verify_path << ": DAMAGED: reading it crashed the HDF5 library (" << e.how()
+                  << "): an object header is damaged where HDF5 does not check before it "
+                     "reads; ggk cannot read this file\n";
+        return 1;
+      }
+    }
     if (*diff) {
-      return engine::diff_results(diff_files[0], diff_files[1], std::cout, diff_options) ? 0 : 1;
+      return engine::read_isolated({diff_files[0], diff_files[1]}, [&] {
+        return engine::diff_results(diff_files[0], diff_files[1], std::cout, diff_options) ? 0 : 1;
+      });
     }
     if (*merge) {
       std::vector<std::filesystem::path> shards(merge_inputs.begin(), merge_inputs.end());
@@ -381,8 +400,7 @@ int main(int argc, char** argv) {
         throw engine::UsageError("merge output: " + *problem);
       }
       merge_options.program = invocation.front();
-      engine::merge_results(merge_output, shards, merge_options, std::cerr);
-      return 0;
+      return engine::merge_results_isolated(merge_output, shards, merge_options, std::cerr);
     }
   } catch (const engine::JobError& e) {
     if (!quiet_rank) std::fprintf(stderr, "ggk: error: %s\n", e.what());

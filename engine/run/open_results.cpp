@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <map>
+#include <ostream>
 #include <set>
 #include <stdexcept>
 #include <system_error>
@@ -17,6 +18,7 @@
 #include "engine/job/job_file.hpp"
 #include "engine/job/job_input.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/run/isolated_reading.hpp"
 #include "engine/run/job_runner.hpp"
 #include "engine/run/salvage_results.hpp"
 #include "engine/store/one_line.hpp"
@@ -392,7 +394,7 @@ Hdf5File create_new(const Study& study, const RunOptions& options, const fs::pat
 // A new file of `study` under `temporary` holding every run of the damaged
 // `output` that reads back whole (salvage_results.hpp).
 Hdf5File salvage(const Study& study, const RunOptions& options, const fs::path& output,
-                 const fs::path& temporary, const std::string& damage,
+                 const fs::path& temporary, const std::string& damage, bool crashes,
                  std::vector<std::vector<std::int32_t>>& complete,
                  std::vector<std::string>& notes) {
   const fs::path kept = keep_damaged_aside(output);
@@ -401,6 +403,7 @@ Hdf5File salvage(const Study& study, const RunOptions& options, const fs::path& 
   try {
     fresh.emplace(create_new(study, options, temporary));
     try {
+      if (crashes) throw std::runtime_error("reading it crashes HDF5");
       const Hdf5File damaged = Hdf5File::open_read_only(output);
       complete = copy_readable_runs(damaged, *fresh, study, count);
     } catch (const std::runtime_error&) {  // not even its root reads: nothing to copy
@@ -420,6 +423,13 @@ Hdf5File salvage(const Study& study, const RunOptions& options, const fs::path& 
     lost += "; every run of " + std::to_string(count.lost_lists) + " of the " +
             std::to_string(study.configurations.size()) +
             " run configurations, as their lists of runs are damaged";
+  }
+  if (crashes) {
+    notes.push_back(output.string() + " cannot be read (" + damage +
+                    "): nothing of it is copied, every run is computed again into a new file, "
+                    "which replaces it with its first write. The damaged file stays as " +
+                    kept.string() + " (delete it when you no longer need it)");
+    return std::move(*fresh);
   }
   notes.push_back(output.string() + " cannot be resumed in place (" + damage + "): its " +
                   std::to_string(count.copied) +
@@ -501,7 +511,25 @@ OpenedResults open_results(const Study& study, const RunOptions& options) {
   std::optional<ResultsTarget> target;
   std::optional<Hdf5File> file;
   std::optional<std::string> damage;  // why the file cannot be resumed in place
+  bool crashes = false;               // reading the file crashes the HDF5 library: copy nothing
   if (state == OutputState::kFile && options.resume) {
+    // Read whole in a child first (isolated_reading.hpp): a file whose damage
+    // crashes HDF5 is never read here, where a crash would leave the lock.
+    const ChildEnd vetted = run_in_child([&] {
+      std::ostream quiet(nullptr);
+      try {
+        verify_results(output, quiet);
+      } catch (const std::exception&) {  // an error is an answer: resume() reports it
+      }
+      return 0;
+    });
+    if (crashed(vetted)) {
+      crashes = true;
+      damage = "reading it crashed the HDF5 library (" + ending_words(vetted) +
+               "): an object header is damaged where HDF5 does not check";
+    }
+  }
+  if (state == OutputState::kFile && options.resume && !crashes) {
     try {
       file.emplace(resume(study, options, output, complete, notes));
     } catch (const UsageError&) {
@@ -516,7 +544,7 @@ OpenedResults open_results(const Study& study, const RunOptions& options) {
     target.emplace(output, fs::path(), std::move(lock));
   } else if (damage) {
     target.emplace(output, temporary, std::move(lock));  // removes the .part on failure
-    file.emplace(salvage(study, options, output, temporary, *damage, complete, notes));
+    file.emplace(salvage(study, options, output, temporary, *damage, crashes, complete, notes));
   } else {
     if (state == OutputState::kFile && !options.overwrite) {
       throw UsageError(

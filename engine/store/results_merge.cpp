@@ -97,6 +97,10 @@ std::string finish_command(const ResultsHeader& shard, const std::string& progra
 
 }  // namespace
 
+std::filesystem::path merging_path(const std::filesystem::path& output, pid_t pid) {
+  return output.string() + ".merging-" + std::to_string(pid);
+}
+
 void merge_results(const std::filesystem::path& output,
                    std::span<const std::filesystem::path> shard_paths, const MergeOptions& options,
                    std::ostream& log) {
@@ -194,8 +198,7 @@ void merge_results(const std::filesystem::path& output,
   }
 
   // Written under a temporary name, renamed into place when whole.
-  const std::filesystem::path temporary =
-      output.string() + ".merging-" + std::to_string(::getpid());
+  const std::filesystem::path temporary = merging_path(output, ::getpid());
   try {
     Hdf5File merged = [&] {
       try {

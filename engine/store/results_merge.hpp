@@ -11,6 +11,8 @@
 // order. OUT is written under a temporary name beside it and renamed into place
 // when complete, so a failed merge leaves no OUT and an existing OUT is refused.
 
+#include <sys/types.h>
+
 #include <filesystem>
 #include <ostream>
 #include <span>
@@ -27,6 +29,10 @@ struct MergeOptions {
 
 // Throws UsageError for what the user can fix (unreadable or foreign shards,
 // overlaps, gaps, an existing OUT). Reports what it merged to `log`.
+// The temporary file a merge by process `pid` writes OUT under:
+// "OUT.merging-<pid>", renamed to OUT when whole.
+std::filesystem::path merging_path(const std::filesystem::path& output, pid_t pid);
+
 void merge_results(const std::filesystem::path& output,
                    std::span<const std::filesystem::path> shards, const MergeOptions& options,
                    std::ostream& log);
