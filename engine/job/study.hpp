@@ -82,6 +82,10 @@ struct RunConfiguration {
 struct WorkUnit {
   std::int32_t configuration = 0;
   std::int32_t run = 0;
+  // The indices (expand_points) of the sweep points to fit, ascending; empty:
+  // every point. A complete run of a study grown by fit-level values lacks some:
+  // only they are fitted, and the run is extended (store/run_extension.hpp).
+  std::vector<std::int32_t> points = {};
   bool operator==(const WorkUnit&) const = default;
 };
 

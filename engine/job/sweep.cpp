@@ -15,7 +15,7 @@ std::vector<SweepPoint> expand_sweep(const JobSpec& job) {
           for (const double lambda : axes.lambda) {
             const auto index = static_cast<std::int32_t>(points.size());
             points.push_back(
-                {index, basis, kernel_count, sigma, solver, lambda, 0, job.lspi, index, {}, {}});
+                {index, basis, kernel_count, sigma, solver, lambda, 0, job.lspi, {}, {}});
           }
         }
       }

@@ -38,11 +38,6 @@ struct SweepPoint {
   // job's [lspi] for a job without such axes).
   std::int32_t variant = 0;
   LspiSettings lspi;
-  // Which evaluation stream the fit's tests draw from (seeds.hpp: keyed by run
-  // and this): the point's index in expand_sweep, shared by its fit variants, so
-  // that a study's variant v tests as the single job with v's values does, and
-  // the variants of one point compare on the same test noise.
-  std::int32_t evaluation_stream = 0;
   // The variant's study keys as `key=value` joined by ',' ("lspi.max_iterations=50"),
   // string values unquoted; empty without fit-level study keys. Part of the fit's
   // group name (run_store.hpp).

@@ -29,14 +29,21 @@ RunRecord compute_run(const JobSpec& job, std::int32_t run) {
   return task->compute_run(job, run, points);
 }
 
-RunRecord compute_unit(const Study& study, WorkUnit unit) {
+RunRecord compute_unit(const Study& study, const WorkUnit& unit) {
   const RunConfiguration& configuration = study.configurations.at(unit.configuration);
   const TaskDefinition* task = find_task(configuration.job.task);
   if (task == nullptr) {
     throw std::logic_error("job names task '" + configuration.job.task + "', not registered");
   }
-  RunRecord record = task->compute_run(configuration.job, unit.run, expand_points(configuration));
+  std::vector<SweepPoint> points = expand_points(configuration);
+  if (!unit.points.empty()) {  // an extension: only the points the stored run lacks
+    std::vector<SweepPoint> lacking;
+    for (const std::int32_t index : unit.points) lacking.push_back(points.at(index));
+    points = std::move(lacking);
+  }
+  RunRecord record = task->compute_run(configuration.job, unit.run, points);
   record.configuration = unit.configuration;
+  record.extension = !unit.points.empty();
   return record;
 }
 

@@ -70,7 +70,7 @@ void print_run_summary(const JobSpec& job, const RunSummary& summary);
 // Runs one run of the job's task for every sweep point (no I/O).
 RunRecord compute_run(const JobSpec& job, std::int32_t run);
 // One unit of a study: the run of its configuration, every fit of every variant.
-RunRecord compute_unit(const Study& study, WorkUnit unit);
+RunRecord compute_unit(const Study& study, const WorkUnit& unit);
 
 // The largest configuration's memory check (memory_check.hpp) for the study's
 // units to compute.

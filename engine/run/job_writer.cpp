@@ -4,6 +4,7 @@
 
 #include "engine/job/sweep.hpp"
 #include "engine/run/job_runner.hpp"
+#include "engine/store/run_extension.hpp"
 #include "engine/store/run_store.hpp"
 
 namespace ggk::engine {
@@ -38,7 +39,12 @@ void JobWriter::committed() {
 
 void JobWriter::commit(std::shared_ptr<const RunRecord> record) {
   writer_.submit([this, record = std::move(record)](Hdf5File& file) {
-    write_run(file, study_.configurations.at(record->configuration).job, *record);
+    const RunConfiguration& configuration = study_.configurations.at(record->configuration);
+    if (record->extension) {
+      extend_run(file, configuration.job, *record, expand_points(configuration));
+    } else {
+      write_run(file, configuration.job, *record);
+    }
     target_.publish(file);  // a new file takes its name with its first run
     committed();
   });
@@ -46,13 +52,19 @@ void JobWriter::commit(std::shared_ptr<const RunRecord> record) {
 
 void JobWriter::commit_image(std::int32_t configuration, std::int32_t run,
                              std::shared_ptr<const std::vector<unsigned char>> bytes,
-                             std::size_t offset) {
-  writer_.submit([this, configuration, run, bytes = std::move(bytes), offset](Hdf5File& file) {
-    write_run_image(file, study_.configurations.at(configuration).job, run,
-                    std::span<const unsigned char>(bytes->data() + offset, bytes->size() - offset));
-    target_.publish(file);
-    committed();
-  });
+                             std::size_t offset, bool extension) {
+  writer_.submit(
+      [this, configuration, run, bytes = std::move(bytes), offset, extension](Hdf5File& file) {
+        const RunConfiguration& of = study_.configurations.at(configuration);
+        const std::span<const unsigned char> image(bytes->data() + offset, bytes->size() - offset);
+        if (extension) {
+          extend_run_from_image(file, of.job, run, image, expand_points(of));
+        } else {
+          write_run_image(file, of.job, run, image);
+        }
+        target_.publish(file);
+        committed();
+      });
 }
 
 void JobWriter::finish() {

@@ -47,9 +47,11 @@ class JobWriter {
   JobWriter& operator=(const JobWriter&) = delete;
 
   void commit(std::shared_ptr<const RunRecord> record);
-  // The image of the run of configuration `configuration` is bytes[offset..].
+  // The image of the run of configuration `configuration` is bytes[offset..];
+  // `extension`: it holds the fits the stored run lacks (RunRecord::extension).
   void commit_image(std::int32_t configuration, std::int32_t run,
-                    std::shared_ptr<const std::vector<unsigned char>> bytes, std::size_t offset);
+                    std::shared_ptr<const std::vector<unsigned char>> bytes, std::size_t offset,
+                    bool extension);
 
   void wait() { writer_.wait(); }
   bool failed() const { return writer_.failed(); }

@@ -41,7 +41,7 @@ using Clock = std::chrono::steady_clock;
 // Message tags. Worker -> rank 0: ready (first request), result (a run's image,
 // also a request for the next run), heartbeat (still computing), failed (an
 // internal error; the worker stops), stopped (by a signal; the worker exits).
-// Rank 0 -> worker: assign (a run), stop.
+// Rank 0 -> worker: assign (a run; an extension's points follow as assign_points), stop.
 enum Tag : int {
   kReady = 1,
   kResult = 2,
@@ -49,7 +49,8 @@ enum Tag : int {
   kFailed = 4,
   kAssign = 5,
   kStop = 6,
-  kStopped = 7  // worker -> rank 0: a stop signal arrived (its number); the worker exits
+  kStopped = 7,      // worker -> rank 0: a stop signal arrived (its number); the worker exits
+  kAssignPoints = 8  // rank 0 -> worker, right after an assign that extends a run: its points
 };
 
 constexpr auto kHeartbeatPeriod = std::chrono::milliseconds(250);
@@ -67,15 +68,20 @@ struct ResultHeader {
   std::int64_t run = 0;
   std::int64_t configuration = 0;
   std::int64_t failed_fits = 0;
+  std::int64_t extension = 0;  // 1: the image extends a stored run (RunRecord::extension)
 };
 
-// A unit of work (study.hpp) as the one int64 an assignment sends, and back.
-std::int64_t encode(WorkUnit unit) {
+// A unit of work (study.hpp) as the one int64 an assignment sends, and back;
+// a unit that extends a run (WorkUnit::points) sets kExtends, and its points
+// follow in a kAssignPoints message.
+constexpr std::int64_t kExtends = std::int64_t{1} << 62;
+std::int64_t encode(const WorkUnit& unit) {
   return (static_cast<std::int64_t>(unit.configuration) << 32) |
-         static_cast<std::int64_t>(static_cast<std::uint32_t>(unit.run));
+         static_cast<std::int64_t>(static_cast<std::uint32_t>(unit.run)) |
+         (unit.points.empty() ? 0 : kExtends);
 }
 WorkUnit decode(std::int64_t value) {
-  return {static_cast<std::int32_t>(value >> 32),
+  return {static_cast<std::int32_t>((value & ~kExtends) >> 32),
           static_cast<std::int32_t>(static_cast<std::uint32_t>(value & 0xffffffff))};
 }
 
@@ -201,7 +207,16 @@ int work(const Study& study) {
     }
     if (status.MPI_TAG == kStop) return 0;
     // Compute on oneTBB's threads; this (the MPI) thread says it is alive.
-    const WorkUnit unit = decode(run);
+    WorkUnit unit = decode(run);
+    if ((run & kExtends) != 0) {  // sent right after the assignment
+      MPI_Status points_status;
+      MPI_Probe(0, kAssignPoints, MPI_COMM_WORLD, &points_status);
+      int count = 0;
+      MPI_Get_count(&points_status, MPI_INT32_T, &count);
+      unit.points.resize(static_cast<std::size_t>(count));
+      MPI_Recv(unit.points.data(), count, MPI_INT32_T, 0, kAssignPoints, MPI_COMM_WORLD,
+               MPI_STATUS_IGNORE);
+    }
     const JobSpec& job = study.configurations.at(unit.configuration).job;
     std::future<RunRecord> computing =
         std::async(std::launch::async, [&study, unit] { return compute_unit(study, unit); });
@@ -216,7 +231,8 @@ int work(const Study& study) {
     std::vector<unsigned char> message;
     try {
       const RunRecord record = computing.get();
-      const ResultHeader header{unit.run, unit.configuration, failed_fits_of(record)};
+      const ResultHeader header{unit.run, unit.configuration, failed_fits_of(record),
+                                record.extension ? 1 : 0};
       const std::vector<unsigned char> image = run_image(job, record);
       message.resize(sizeof header + image.size());
       std::memcpy(message.data(), &header, sizeof header);
@@ -342,6 +358,10 @@ void Coordinator::assign_or_stop(int rank) {
     const std::int64_t value = encode(*run);
     held_[rank] = {run->run, run->configuration, Clock::now()};
     MPI_Send(&value, 1, MPI_INT64_T, rank, kAssign, MPI_COMM_WORLD);
+    if (!run->points.empty()) {
+      MPI_Send(run->points.data(), static_cast<int>(run->points.size()), MPI_INT32_T, rank,
+               kAssignPoints, MPI_COMM_WORLD);
+    }
   } else {
     const std::int64_t none = -1;
     held_.erase(rank);
@@ -370,7 +390,7 @@ void Coordinator::receive(const MPI_Status& status) {
       failed_fits_.fetch_add(header.failed_fits);
       writer_.commit_image(static_cast<std::int32_t>(header.configuration),
                            static_cast<std::int32_t>(header.run), std::move(bytes),
-                           sizeof(ResultHeader));
+                           sizeof(ResultHeader), header.extension != 0);
       held_[rank].run = -1;
       assign_or_stop(rank);
       return;

@@ -24,6 +24,7 @@
 #include "engine/store/one_line.hpp"
 #include "engine/store/results_layout.hpp"
 #include "engine/store/results_verify.hpp"
+#include "engine/store/run_extension.hpp"
 #include "engine/store/run_store.hpp"
 #include "engine/store/utc_time.hpp"
 #include "kernels/blas_runtime.hpp"
@@ -91,8 +92,28 @@ std::optional<RunsSelected> selection(const JobSpec& job, const std::optional<Ru
   return RunsSelected{runs->first, runs->last};
 }
 
+// The keys whose values a resumed job may add to: runs aside, the run-level
+// study axes' (more run configurations) and the fit-level ones', built-in
+// (sweep.basis ... sweep.lambda) or study axes (lspi.*: more fits of each run,
+// store/run_extension.hpp).
+struct GrowableKey {
+  std::string key;
+  bool fit_level = true;
+};
+std::vector<GrowableKey> growable_keys(const Study& study) {
+  std::vector<GrowableKey> keys;
+  for (const std::string_view axis : kSweepTableKeys)
+    keys.push_back({"sweep." + std::string(axis)});
+  for (const StudyAxis& axis : study.axes) {
+    for (const std::string& key : axis.keys) {
+      keys.push_back({key, axis.level == StageLevel::kFit});
+    }
+  }
+  return keys;
+}
+
 // Whether the job (`wanted`: resolved_of(study)) grows the file's (more runs,
-// more values of a run-level axis: study.hpp), given that nothing else
+// more values of an axis: study.hpp), given that nothing else
 // differs; a UsageError says what a job with fewer would drop.
 bool grows(const ResolvedConfig& recorded, const ResolvedConfig& wanted, const Study& study,
            const fs::path& output) {
@@ -109,9 +130,8 @@ bool grows(const ResolvedConfig& recorded, const ResolvedConfig& wanted, const S
                      " (--set runs=" + std::to_string(had) + "), or write to another -o");
   }
   grown = has > had;
-  for (const StudyAxis& axis : study.axes) {
-    if (axis.level != StageLevel::kRun) continue;
-    for (const std::string& key : axis.keys) {
+  for (const auto& [key, fit_level] : growable_keys(study)) {
+    {
       const auto before = canonical_elements(recorded.value(key).value_or(""));
       const auto after = canonical_elements(wanted.value(key).value_or(""));
       if (!before || !after) {
@@ -126,10 +146,18 @@ bool grows(const ResolvedConfig& recorded, const ResolvedConfig& wanted, const S
       }
       if (!dropped.empty()) {
         throw UsageError("cannot resume " + output.string() + ": the job drops " + key + " = " +
-                         dropped +
-                         ", whose runs the results file holds (a study resumes "
+                         dropped + ", whose " + (fit_level ? "fits" : "runs") +
+                         " the results file holds (a study resumes "
                          "with the values it has, and may add more); add them back, or write "
                          "to another -o");
+      }
+      // Fits are numbered in the job's order: a run that gains no fit keeps its
+      // numbers (a run-level axis's configuration groups are renumbered instead).
+      if (fit_level && after->size() == before->size() && *after != *before) {
+        throw UsageError("cannot resume " + output.string() + ": the job lists the values of " +
+                         key + " in another order than its results file (" +
+                         recorded.value(key).value_or("") + "), whose runs are numbered by it; " +
+                         "list them in that order (new values may go anywhere)");
       }
       grown = grown || after->size() > before->size();
     }
@@ -168,11 +196,10 @@ bool check_same_job(const Hdf5File& file, const Study& study, const fs::path& ou
                        "choose another output with -o, or --overwrite to replace it (deleting "
                        "its complete runs)");
     }
-    // What may grow (runs, the values of run-level axes) is compared by grows().
+    // What may grow (runs, the values of study axes and the built-in ones) is
+    // compared by grows().
     std::set<std::string> ignored = {"output.file", "output.compression", "runs"};
-    for (const StudyAxis& axis : study.axes) {
-      if (axis.level == StageLevel::kRun) ignored.insert(axis.keys.begin(), axis.keys.end());
-    }
+    for (const GrowableKey& growable : growable_keys(study)) ignored.insert(growable.key);
     const ResolvedConfig wanted = resolved_of(study);
     difference = recorded->difference(wanted, "the results file", "the job file", ignored);
     if (!difference) grown = grows(*recorded, wanted, study, output);
@@ -324,7 +351,8 @@ Hdf5File resume(const Study& study, const RunOptions& options, const fs::path& o
                     (configurations > 1
                          ? " x " + std::to_string(configurations) + " run configurations"
                          : std::string()) +
-                    ": its complete runs are kept");
+                    " x " + std::to_string(expand_points(study.configurations.front()).size()) +
+                    " sweep points: its complete runs are kept");
   }
   for (const RunConfiguration& configuration : study.configurations) {
     const JobSpec& job = configuration.job;
@@ -564,14 +592,38 @@ OpenedResults open_results(const Study& study, const RunOptions& options) {
   const std::int32_t first = options.runs ? options.runs->first : 0;
   const std::int32_t last = options.runs ? options.runs->last : job.runs;
   complete.resize(study.configurations.size());
+  std::int64_t extended = 0, new_fits = 0;
   for (std::size_t c = 0; c < study.configurations.size(); ++c) {
+    const RunConfiguration& configuration = study.configurations[c];
+    const std::vector<SweepPoint> points = expand_points(configuration);
     for (std::int32_t run = first; run < last; ++run) {
-      if (std::binary_search(complete[c].begin(), complete[c].end(), run)) {
+      if (!std::binary_search(complete[c].begin(), complete[c].end(), run)) {
+        opened.pending.push_back({static_cast<std::int32_t>(c), run});
+        continue;
+      }
+      // A complete run of a study grown by fit-level values lacks their fits:
+      // only they are computed (store/run_extension.hpp).
+      std::vector<std::int32_t> lacking;
+      try {
+        lacking = lacking_points(opened.file, runs_location(configuration.job), run, points);
+      } catch (const std::runtime_error& e) {
+        throw UsageError("cannot resume " + output.string() + ": " + e.what());
+      }
+      if (lacking.empty()) {
         ++opened.skipped;
       } else {
-        opened.pending.push_back({static_cast<std::int32_t>(c), run});
+        ++extended;
+        new_fits += static_cast<std::int64_t>(lacking.size());
+        opened.pending.push_back({static_cast<std::int32_t>(c), run, std::move(lacking)});
       }
     }
+  }
+  if (extended > 0) {
+    opened.notes.push_back(
+        "growing " + std::to_string(extended) + " complete runs of " + output.string() + " by " +
+        std::to_string(new_fits) +
+        " fits of the job's new values: only these are fitted (each run's samples and graph "
+        "are computed again, the same bits), the fits it holds are kept");
   }
   return opened;
 }

@@ -332,17 +332,13 @@ std::string runs_location(const JobSpec& job) {
   return job.configuration_group.empty() ? job.task : job.task + "/" + job.configuration_group;
 }
 
-void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
-  // Two-step commit (see hdf5_file.hpp, "Crashes"): the run is written and
-  // flushed under a staging path, then moved to its place and marked complete. A
-  // kill can then damage at most the staging group, which a resume discards.
+std::string stage_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
   const std::string location = runs_location(job);
-  const std::string group = run_group(location, record.run);
   const std::string staging = staging_group(location, record.run);
   if (!file.in_memory()) {
     require_room(file.path(), run_bytes_bound(job, record), "run " + std::to_string(record.run));
   }
-  clear_run_slots(file, group, staging);
+  if (file.exists(staging)) abandon(file, staging);  // a killed writer's: never read
   file.create_group(staging);
   write_samples(file, staging + "/samples", record.samples);
   write_graph(file, staging + "/graph", record);
@@ -366,10 +362,24 @@ void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
   file.write_int64_attribute(staging, kRunDigestAttribute,
                              static_cast<std::int64_t>(run_digest(file, staging)));
   file.flush();
-  file.move(staging, group);
+  return staging;
+}
+
+void commit_staged_run(Hdf5File& file, const std::string& location, std::int32_t run) {
+  const std::string group = run_group(location, run);
+  if (file.exists(group)) abandon(file, group);  // an earlier copy: never read
+  file.move(staging_group(location, run), group);
   file.write_int64_attribute(group, "complete", 1);  // last: the mark that the run is whole
   drop_staging(file);  // its now empty groups: no /.staging in a reader's view
   file.flush();
+}
+
+void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record) {
+  // Two-step commit (see hdf5_file.hpp, "Crashes"): the run is written and
+  // flushed under a staging path, then moved to its place and marked complete. A
+  // kill can then damage at most the staging group, which a resume discards.
+  stage_run(file, job, record);
+  commit_staged_run(file, runs_location(job), record.run);
 }
 
 std::vector<unsigned char> run_image(const JobSpec& job, const RunRecord& record) {

@@ -67,6 +67,12 @@ std::int32_t configuration_of(const Hdf5File& file, const std::string& location)
 // marks it complete and flushes again (an incomplete leftover of the same run is
 // removed first). A kill at any moment leaves every complete run readable.
 void write_run(Hdf5File& file, const JobSpec& job, const RunRecord& record);
+// Its two steps: the run written whole under its staging group (a leftover there
+// abandoned), its digest set, flushed; returns the staging group's path. Then
+// the staged run moved into place (an earlier copy there abandoned), marked
+// complete, flushed.
+std::string stage_run(Hdf5File& file, const JobSpec& job, const RunRecord& record);
+void commit_staged_run(Hdf5File& file, const std::string& location, std::int32_t run);
 
 // The run as the bytes of an in-memory HDF5 file that holds its group, written
 // by write_run (for a run computed on another MPI rank).

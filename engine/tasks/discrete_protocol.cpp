@@ -148,7 +148,8 @@ double roll_out(const RunContext& ctx, const std::vector<std::int32_t>& policy, 
 
 // The goal test of a greedy policy (the protocol's test, sec. 4): a roll-out from
 // every start state, then one from each named start, all from a fresh copy of the
-// fit's evaluation stream (so the test of the last iterate is the fit's own test).
+// run's evaluation stream (seeds.hpp: every fit and iterate of a run meets the
+// same noise, so the test of the last iterate is the fit's own test).
 struct GoalTest {
   double success = 0.0;       // fraction of start states that reach a goal
   double mean_steps = kNaN;   // over the successful roll-outs
@@ -157,11 +158,10 @@ struct GoalTest {
   std::vector<std::vector<std::int32_t>> trajectories;  // per named start, when asked
 };
 
-GoalTest goal_test(const RunContext& ctx, const SweepPoint& point,
-                   const std::vector<std::int32_t>& policy, bool keep_trajectories) {
+GoalTest goal_test(const RunContext& ctx, const std::vector<std::int32_t>& policy,
+                   bool keep_trajectories) {
   const DiscreteEnvironment& env = *ctx.env;
-  kernels::RandomStream random = stream_for(ctx.job->seed, ctx.run, Purpose::evaluation,
-                                            static_cast<std::uint32_t>(point.evaluation_stream));
+  kernels::RandomStream random = stream_for(ctx.job->seed, ctx.run, Purpose::evaluation);
   GoalTest test;
   test.steps.reserve(env.start_states.size());
   double successes = 0.0, step_sum = 0.0;
@@ -185,15 +185,14 @@ GoalTest goal_test(const RunContext& ctx, const SweepPoint& point,
 
 // Sets the tested metrics of `policy`: the task's own test, or the goal test's
 // metrics (its record in *kept when asked, with the named starts' trajectories).
-void test_greedy_policy(const RunContext& ctx, const SweepPoint& point,
-                        const std::vector<std::int32_t>& policy, FitMetrics& metrics,
-                        GoalTest* kept) {
+void test_greedy_policy(const RunContext& ctx, const std::vector<std::int32_t>& policy,
+                        FitMetrics& metrics, GoalTest* kept) {
   const DiscreteEnvironment& env = *ctx.env;
   if (env.test_policy) {
     env.test_policy(policy, metrics);
     return;
   }
-  GoalTest test = goal_test(ctx, point, policy, kept != nullptr);
+  GoalTest test = goal_test(ctx, policy, kept != nullptr);
   metrics.set("success_rate", test.success);
   metrics.set("mean_steps_to_goal", test.mean_steps);
   for (std::size_t i = 0; i < env.named_starts.size(); ++i) {
@@ -246,7 +245,7 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   if (fit.lspi.weights.size() != 0) {
     metrics.set("lspi_iterations", static_cast<double>(fit.lspi.iterations()));
     GoalTest test;
-    test_greedy_policy(ctx, point, fit.lspi.policy, metrics, &test);
+    test_greedy_policy(ctx, fit.lspi.policy, metrics, &test);
     for (std::size_t i = 0; i < test.trajectories.size(); ++i) {
       const std::vector<std::int32_t>& trajectory = test.trajectories[i];
       fit.arrays.push_back({"trajectory_" + env.named_starts[i].first,
@@ -268,8 +267,8 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
     if (!fit.lspi.iterates.empty()) {
       // [lspi] evaluate_iterations: history/<tested metric> per iterate.
       add_iteration_history(fit, ctx.metrics, [&](const Eigen::VectorXd& w, FitMetrics& iterate) {
-        test_greedy_policy(ctx, point, kernels::greedy_policy(features, env.num_actions, w),
-                           iterate, nullptr);
+        test_greedy_policy(ctx, kernels::greedy_policy(features, env.num_actions, w), iterate,
+                           nullptr);
       });
     }
   }

@@ -48,6 +48,48 @@ std::vector<std::pair<std::string, double>> FitMetrics::named_values() const {
   return result;
 }
 
+namespace {
+
+// The stretch between the first `count` centres. Their shortest paths are the
+// first rows of center_distances when the fits need as many; the missing rows
+// are computed in batches no larger than center_distances (at least one row),
+// keeping only the centres' columns: no more memory than the fits' rows take.
+double centre_stretch(const kernels::CsrGraph& graph, const RunGraph& result, std::int32_t count,
+                      const kernels::RowMatrixXd& node_vectors) {
+  const auto centers =
+      std::span<const std::int32_t>(result.centers).first(static_cast<std::size_t>(count));
+  if (result.center_distances.rows() >= count) {
+    return kernels::geodesic_stretch(result.center_distances, centers, node_vectors);
+  }
+  // Between the centres only: row i, column j = SP(c_i, c_j), with the centres'
+  // own vectors, indexed 0..count-1.
+  kernels::RowMatrixXd between(count, count);
+  kernels::RowMatrixXd vectors(count, node_vectors.cols());
+  for (std::int32_t j = 0; j < count; ++j) vectors.row(j) = node_vectors.row(centers[j]);
+  const auto known = static_cast<std::int32_t>(result.center_distances.rows());
+  const std::int32_t batch = std::max<std::int32_t>(1, known);
+  for (std::int32_t first = 0; first < count; first += batch) {
+    const std::int32_t rows = std::min(batch, count - first);
+    const bool stored = first + rows <= known;
+    const kernels::RowMatrixXd computed =
+        stored
+            ? kernels::RowMatrixXd()
+            : kernels::geodesic_distances(graph, centers.subspan(static_cast<std::size_t>(first),
+                                                                 static_cast<std::size_t>(rows)));
+    for (std::int32_t i = 0; i < rows; ++i) {
+      for (std::int32_t j = 0; j < count; ++j) {
+        between(first + i, j) =
+            stored ? result.center_distances(first + i, centers[j]) : computed(i, centers[j]);
+      }
+    }
+  }
+  std::vector<std::int32_t> order(static_cast<std::size_t>(count));
+  for (std::int32_t j = 0; j < count; ++j) order[static_cast<std::size_t>(j)] = j;
+  return kernels::geodesic_stretch(between, order, vectors);
+}
+
+}  // namespace
+
 RunGraph run_graph(const kernels::CsrGraph& graph, std::span<const std::uint8_t> is_node,
                    std::vector<std::int32_t> center_order, const kernels::RowMatrixXd& node_vectors,
                    std::span<const SweepPoint> points) {
@@ -62,7 +104,7 @@ RunGraph run_graph(const kernels::CsrGraph& graph, std::span<const std::uint8_t>
   result.edges = static_cast<double>(kernels::undirected_edge_count(graph));
   result.median_degree = kernels::median_degree(graph, is_node);
   result.geodesic_stretch =
-      kernels::geodesic_stretch(result.center_distances, sources, node_vectors);
+      centre_stretch(graph, result, std::min(kStretchCenters, result.nodes), node_vectors);
   return result;
 }
 

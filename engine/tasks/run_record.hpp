@@ -68,6 +68,9 @@ struct RunRecord {
   kernels::RowMatrixXd node_states;  // graph.num_nodes rows
   std::vector<NamedArray> arrays;    // task-specific run data
   std::vector<FitRecord> fits;       // one per sweep point, in sweep order
+  // The fits are those a stored complete run lacks (WorkUnit::points): the
+  // store extends that run with them (store/run_extension.hpp).
+  bool extension = false;
 };
 
 }  // namespace ggk::engine

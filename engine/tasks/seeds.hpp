@@ -13,7 +13,10 @@ namespace ggk::engine {
 enum class Purpose : std::uint32_t {
   samples = 1,     // the run's random-walk samples
   centers = 2,     // the order in which graph nodes become kernel centres
-  evaluation = 3,  // testing one fit's greedy policy (item = sweep point)
+  evaluation = 3,  // testing a fit's greedy policy: one stream per run, read afresh by
+                   // every fit (common random numbers: two fits of a run meet the
+                   // same test noise, so they compare paired by run; a fit's
+                   // results do not depend on which other fits its job has)
   model = 4,       // task-specific model fitting (e.g. the SOM)
 };
 

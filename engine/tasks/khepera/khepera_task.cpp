@@ -104,15 +104,15 @@ kernels::SparseRowMatrix state_kernel_table(const RunContext& ctx, KernelType ba
   return kernels::ordinary_gaussian_kernels(ctx.walks->readings, center_vectors, sigma, truncation);
 }
 
-// The test of greedy weights: the episodes from a fresh copy of the fit's
-// evaluation stream; sets the tested metrics.
-EpisodeTest test_weights(const RunContext& ctx, const SweepPoint& point,
-                         const ReadingKernels& kernels_of, const Eigen::VectorXd& weights,
-                         FitMetrics& metrics, bool keep_trajectories) {
-  EpisodeTest test = test_episodes(*ctx.robot,
-                                   stream_for(ctx.job->seed, ctx.run, Purpose::evaluation,
-                                              static_cast<std::uint32_t>(point.evaluation_stream)),
-                                   kernels_of, weights, keep_trajectories);
+// The test of greedy weights: the episodes from a fresh copy of the run's
+// evaluation stream (seeds.hpp: every fit of a run meets the same test noise);
+// sets the tested metrics.
+EpisodeTest test_weights(const RunContext& ctx, const ReadingKernels& kernels_of,
+                         const Eigen::VectorXd& weights, FitMetrics& metrics,
+                         bool keep_trajectories) {
+  EpisodeTest test =
+      test_episodes(*ctx.robot, stream_for(ctx.job->seed, ctx.run, Purpose::evaluation), kernels_of,
+                    weights, keep_trajectories);
   metrics.set("mean_return", test.mean_return);
   metrics.set("collision_fraction", test.collision_fraction);
   metrics.set("mean_steps", test.mean_steps);
@@ -152,7 +152,7 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point,
 
   const ReadingKernels kernels_of(*ctx.som, ctx.occupied, ctx.graph.center_distances, point,
                                   fit.centers, ctx.job->basis.truncation);
-  EpisodeTest test = test_weights(ctx, point, kernels_of, fit.lspi.weights, metrics, true);
+  EpisodeTest test = test_weights(ctx, kernels_of, fit.lspi.weights, metrics, true);
   fit.metrics = metrics.named_values();
   for (NamedArray& trajectory : test.trajectories) fit.arrays.push_back(std::move(trajectory));
   fit.arrays.push_back(
@@ -161,7 +161,7 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point,
     // [lspi] evaluate_iterations: history/<tested metric> per iterate.
     add_iteration_history(fit, khepera_metric_specs(),
                           [&](const Eigen::VectorXd& w, FitMetrics& iterate) {
-                            test_weights(ctx, point, kernels_of, w, iterate, false);
+                            test_weights(ctx, kernels_of, w, iterate, false);
                           });
   }
 

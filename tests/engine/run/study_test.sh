@@ -16,8 +16,13 @@
 #   grow           --resume with more runs or more values of a run-level axis
 #                  computes only what is new and equals the larger study from
 #                  scratch; fewer are refused, naming what would be dropped
+#   grow_fits      --resume with more values of fit-level axes (kernels, solver,
+#                  lspi.*) computes only the new fits and equals the larger study
+#                  from scratch (maze, Khepera, chain); dropped or reordered
+#                  values are refused
 #   distributed    mpirun -np 3, and shards merged by --shards-of, equal one
-#                  process (ggk diff)
+#                  process (ggk diff); a study grown by a kernel count under
+#                  mpirun equals it from scratch
 # Environment: GGK (the binary), GGK_SOURCE_DIR; MPIEXEC and
 # MPIEXEC_NUMPROC_FLAG for `distributed`.
 set -euo pipefail
@@ -220,6 +225,59 @@ PY
     2>"$scratch/err" || fail "after a cut renumbering: $(cat "$scratch/err")"
   "$GGK" diff "$scratch/whole.h5" "$scratch/cut.h5" >/dev/null || fail "the cut renumbering differs"
   ;;
+grow_fits)
+  # More values of fit-level axes (a kernel count inserted, a basis, an lspi.*
+  # axis), with more runs: only the new fits are computed, and the file equals
+  # the larger study from scratch; for the maze, the Khepera (noisy tests: every
+  # fit of a run meets the same test noise) and the chain.
+  "$GGK" run "$job" -q --set runs=2 --sweep kernels=4,12 -o "$scratch/fits.h5" 2>/dev/null
+  "$GGK" run "$job" --set runs=3 --sweep kernels=4,8,12 -o "$scratch/fits.h5" --resume \
+    2>"$scratch/err" || fail "grow by kernels: $(cat "$scratch/err")"
+  # Runs 0, 1: 2 new fits each (kernels 8, both bases); run 2: all 6.
+  grep -q "3 runs computed, 0 already complete, 10 fits" "$scratch/err" ||
+    fail "grow by kernels computed: $(cat "$scratch/err")"
+  "$GGK" run "$job" -q --set runs=3 --sweep kernels=4,8,12 -o "$scratch/fits-whole.h5" 2>/dev/null
+  "$GGK" diff "$scratch/fits-whole.h5" "$scratch/fits.h5" || fail "grown by kernels: differs"
+  # A fit-level study axis and a solver added, on runs 0..1 first (--runs):
+  # a file with runs grown and runs not grown yet resumes to the whole.
+  sets=(--set runs=3 --sweep kernels=4,8,12 --sweep 'solver=brm,lstdq'
+    --sweep lspi.max_iterations=3,20)
+  "$GGK" run "$job" -q --set runs=3 --sweep kernels=4,8,12 --sweep lspi.max_iterations=20 \
+    -o "$scratch/lspi.h5" 2>/dev/null
+  "$GGK" run "$job" -q "${sets[@]}" --runs 0:2 -o "$scratch/lspi.h5" --resume 2>/dev/null ||
+    fail "grow by solver and lspi on runs 0..1"
+  "$GGK" run "$job" "${sets[@]}" -o "$scratch/lspi.h5" --resume 2>"$scratch/err" ||
+    fail "grow the rest: $(cat "$scratch/err")"
+  grep -q "1 runs computed, 2 already complete, 18 fits" "$scratch/err" ||
+    fail "grow the rest computed: $(cat "$scratch/err")"
+  "$GGK" run "$job" -q "${sets[@]}" -o "$scratch/lspi-whole.h5" 2>/dev/null
+  "$GGK" diff "$scratch/lspi-whole.h5" "$scratch/lspi.h5" || fail "grown by solver and lspi: differs"
+  # Dropped or reordered fit-level values are refused, the file left as it was.
+  cp "$scratch/lspi.h5" "$scratch/before.h5"
+  s=$(status_of "$GGK" run "$job" -q --set runs=3 --sweep kernels=4,12 --sweep 'solver=brm,lstdq' \
+    --sweep lspi.max_iterations=3,20 -o "$scratch/lspi.h5" --resume)
+  [ "$s" = 2 ] && grep -q "drops sweep.kernels = 8, whose fits" "$scratch/err" ||
+    fail "dropped kernel count: $s $(cat "$scratch/err")"
+  s=$(status_of "$GGK" run "$job" -q --set runs=3 --sweep kernels=12,8,4 --sweep 'solver=brm,lstdq' \
+    --sweep lspi.max_iterations=3,20 -o "$scratch/lspi.h5" --resume)
+  [ "$s" = 2 ] && grep -q "lists the values of sweep.kernels in another order" "$scratch/err" ||
+    fail "reordered kernel counts: $s $(cat "$scratch/err")"
+  cmp -s "$scratch/before.h5" "$scratch/lspi.h5" || fail "a refusal changed the file"
+  # The Khepera and the chain: noisy tests, other graphs.
+  for task_job in ci-khepera ci-chain; do
+    ci_job=$GGK_SOURCE_DIR/jobs/$task_job.toml
+    kernels=$(/usr/bin/python3 -c "import tomllib,sys; print(','.join(map(str,
+      tomllib.load(open(sys.argv[1],'rb'))['sweep']['kernels'])))" "$ci_job")
+    first=${kernels%%,*}
+    "$GGK" run "$ci_job" -q -j 2 --sweep "kernels=$first" -o "$scratch/$task_job.h5" 2>/dev/null
+    "$GGK" run "$ci_job" -q -j 2 --sweep "kernels=$kernels" -o "$scratch/$task_job.h5" --resume \
+      2>/dev/null || fail "$task_job: grow by kernels"
+    "$GGK" run "$ci_job" -q -j 2 --sweep "kernels=$kernels" -o "$scratch/$task_job-whole.h5" \
+      2>/dev/null
+    "$GGK" diff "$scratch/$task_job-whole.h5" "$scratch/$task_job.h5" ||
+      fail "$task_job: grown by kernels differs"
+  done
+  ;;
 distributed)
   read -r -a launcher <<<"$MPIEXEC"
   sets=(--sweep maze.slip=0.0,0.2 --sweep lspi.max_iterations=3,20)
@@ -233,6 +291,12 @@ distributed)
   "$GGK" merge "$scratch/sharded.h5" "$scratch/sharded.shard-0-of-2.h5" \
     "$scratch/sharded.shard-1-of-2.h5" 2>/dev/null
   "$GGK" diff "$scratch/one.h5" "$scratch/sharded.h5" || fail "merged shards differ"
+  # Grown by a kernel count under mpirun: other ranks compute the extensions.
+  "$GGK" run "$job" -q --sweep kernels=4 -o "$scratch/mpi-grow.h5" 2>/dev/null
+  "${launcher[@]}" "${MPIEXEC_NUMPROC_FLAG:--n}" 3 "$GGK" run "$job" -q -j 1 --sweep kernels=4,8 \
+    -o "$scratch/mpi-grow.h5" --resume 2>"$scratch/err" || fail "mpirun grow: $(cat "$scratch/err")"
+  "$GGK" run "$job" -q --sweep kernels=4,8 -o "$scratch/grow-whole.h5" 2>/dev/null
+  "$GGK" diff "$scratch/grow-whole.h5" "$scratch/mpi-grow.h5" || fail "grown under mpirun differs"
   ;;
 *)
   fail "unknown case $case_name"

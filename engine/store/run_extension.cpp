@@ -1,0 +1,140 @@
+#include "engine/store/run_extension.hpp"
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "engine/store/run_digest.hpp"
+#include "engine/store/run_store.hpp"
+
+namespace ggk::engine {
+
+namespace {
+
+// The fit groups below a run's `fits` group: "<basis>/<name>" (fit_group_name).
+std::vector<std::string> fit_groups_of(const Hdf5File& file, const std::string& run) {
+  std::vector<std::string> names;
+  const std::string fits = run + "/fits";
+  if (!file.exists(fits)) return names;
+  for (const std::string& basis : file.member_names(fits)) {
+    for (const std::string& name : file.member_names(fits + "/" + basis)) {
+      names.push_back(basis + "/" + name);
+    }
+  }
+  return names;
+}
+
+std::size_t column_index(const std::vector<TableColumn>& columns, const std::string& name,
+                         const std::string& table) {
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    if (columns[c].name == name) return c;
+  }
+  throw std::runtime_error(table + " has no column " + name);
+}
+
+// Adds the old run's fits to the staged extension: each old fit group copied
+// with its new index, fit_metrics holding every fit's row in point order, the
+// digest set again.
+void add_old_fits(Hdf5File& file, const std::string& old_run, const std::string& staging,
+                  std::span<const SweepPoint> points) {
+  const std::string what = "cannot grow " + old_run.substr(1) + ": ";
+  std::map<std::string, std::int32_t> index_of;  // fit group name -> its point's index
+  for (const SweepPoint& point : points) index_of.emplace(fit_group_name(point), point.index);
+
+  std::map<std::int64_t, std::int32_t> renumbered;  // old index -> new
+  for (const std::string& name : fit_groups_of(file, old_run)) {
+    const auto found = index_of.find(name);
+    if (found == index_of.end()) {
+      throw std::runtime_error(what + "its fit " + name + " is no sweep point of the job");
+    }
+    const std::string source = old_run + "/fits/" + name;
+    const std::string target = staging + "/fits/" + name;
+    if (file.exists(target)) {
+      throw std::runtime_error(what + "its fit " + name + " was computed again");
+    }
+    renumbered[file.read_int64_attribute(source, "sweep_point")] = found->second;
+    file.copy_from(file, source, target);
+    file.remove_attribute(target, "sweep_point");
+    file.write_int64_attribute(target, "sweep_point", found->second);
+  }
+
+  const std::string old_table = old_run + "/fit_metrics";
+  const std::string new_table = staging + "/fit_metrics";
+  const std::vector<TableColumn> columns = file.read_table_columns(new_table);
+  if (file.read_table_columns(old_table) != columns) {
+    throw std::runtime_error(what + "its fit_metrics columns differ from the job's");
+  }
+  const std::size_t point_column = column_index(columns, "sweep_point", new_table);
+  std::vector<TableRow> rows = file.read_table(new_table);
+  for (TableRow row : file.read_table(old_table)) {
+    const auto found = renumbered.find(std::get<std::int32_t>(row[point_column]));
+    if (found == renumbered.end()) {
+      throw std::runtime_error(what + "a row of its fit_metrics belongs to no fit group");
+    }
+    row[point_column] = found->second;
+    rows.push_back(std::move(row));
+  }
+  std::sort(rows.begin(), rows.end(), [&](const TableRow& a, const TableRow& b) {
+    return std::get<std::int32_t>(a[point_column]) < std::get<std::int32_t>(b[point_column]);
+  });
+  std::string axes;
+  const bool has_axes = file.has_attribute(new_table, kStudyAxesAttribute);
+  if (has_axes) axes = file.read_string_attribute(new_table, kStudyAxesAttribute);
+  file.remove(new_table);
+  file.create_table(new_table, columns);
+  file.append_rows(new_table, rows);
+  if (has_axes) file.write_string_attribute(new_table, kStudyAxesAttribute, axes);
+
+  file.remove_attribute(staging, kRunDigestAttribute);
+  file.write_int64_attribute(staging, kRunDigestAttribute,
+                             static_cast<std::int64_t>(run_digest(file, staging)));
+  file.flush();
+}
+
+}  // namespace
+
+std::vector<std::int32_t> lacking_points(const Hdf5File& file, const std::string& location,
+                                         std::int32_t run, std::span<const SweepPoint> points) {
+  const std::string group = run_group(location, run);
+  std::map<std::string, std::int32_t> index_of;
+  for (const SweepPoint& point : points) index_of.emplace(fit_group_name(point), point.index);
+  for (const std::string& name : fit_groups_of(file, group)) {
+    if (index_of.erase(name) == 0) {
+      throw std::runtime_error(group.substr(1) + " holds the fit " + name +
+                               ", which is no sweep point of the job");
+    }
+  }
+  std::vector<std::int32_t> lacking;
+  for (const auto& [name, index] : index_of) lacking.push_back(index);
+  std::sort(lacking.begin(), lacking.end());
+  return lacking;
+}
+
+void extend_run(Hdf5File& file, const JobSpec& job, const RunRecord& extension,
+                std::span<const SweepPoint> points) {
+  const std::string location = runs_location(job);
+  const std::string staging = stage_run(file, job, extension);
+  add_old_fits(file, run_group(location, extension.run), staging, points);
+  commit_staged_run(file, location, extension.run);
+}
+
+void extend_run_from_image(Hdf5File& file, const JobSpec& job, std::int32_t run,
+                           std::span<const unsigned char> image,
+                           std::span<const SweepPoint> points) {
+  const Hdf5File source = Hdf5File::open_image(image, "run_" + std::to_string(run));
+  const std::string location = runs_location(job);
+  if (!run_is_complete(source, location, run)) {
+    throw std::runtime_error("the image sent for run " + std::to_string(run) +
+                             " does not hold that run complete");
+  }
+  const std::string staging = staging_group(location, run);
+  if (file.exists(staging)) file.detach(staging);  // a killed writer's: never read
+  file.copy_from(source, run_group(location, run), staging);
+  file.remove_attribute(staging, "complete");  // marked when it is in place
+  add_old_fits(file, run_group(location, run), staging, points);
+  commit_staged_run(file, location, run);
+}
+
+}  // namespace ggk::engine
