@@ -30,7 +30,10 @@ bool ignored_attribute(const std::string& object, const std::string& name) {
   if (name == "fit_seconds") return true;
   // A run's digest is derived from what diff compares itself (run_digest.hpp);
   // files from before it have none.
-  if (name == kRunDigestAttribute && object.find("/run_") != std::string::npos) return true;
+  if ((name == kRunDigestAttribute || name == kMetadataDigestAttribute) &&
+      object.find("/run_") != std::string::npos) {
+    return true;
+  }
   return object == "/" && root_attribute_role(name) == RootAttributeRole::kWallClock;
 }
 bool provenance(const std::string& object, const std::string& name) {
@@ -237,6 +240,11 @@ Hdf5File open_results_file(const std::filesystem::path& path, std::string& task)
     task = read_results_header(*file).task;
   } catch (const ResultsHeaderError& e) {
     throw UsageError(e.what());
+  } catch (const std::runtime_error& e) {  // the root's attributes do not read: damage
+    throw UsageError(path.string() +
+                     " does not read as a ggk results file (`ggk verify` says whether it is "
+                     "damaged): " +
+                     e.what());
   }
   return std::move(*file);
 }

@@ -35,11 +35,12 @@ class Fnv1a {
 
 bool left_out(const std::string& relative, const std::string& name) {
   if (name == "fit_seconds") return true;  // wall clock
-  return relative.empty() && (name == "complete" || name == kRunDigestAttribute);
+  return relative.empty() &&
+         (name == "complete" || name == kRunDigestAttribute || name == kMetadataDigestAttribute);
 }
 
 void add_object(const Hdf5File& file, const std::string& path, const std::string& relative,
-                int depth, Fnv1a& hash) {
+                int depth, DigestScope scope, Fnv1a& hash) {
   if (depth > kMaxDepth) throw std::runtime_error(path + ": groups nested too deep");
   if (!file.hard_link_address(path)) throw std::runtime_error(path + ": not a hard link");
   hash.add(relative);
@@ -59,6 +60,14 @@ void add_object(const Hdf5File& file, const std::string& path, const std::string
     case Hdf5File::ObjectKind::kDataset: {
       hash.add("dataset");
       for (const std::int64_t extent : file.dataset_shape(path)) hash.add(extent);
+      if (scope == DigestScope::kContent) {
+        static const std::string kWallClock[] = {"fit_seconds"};  // a table's column
+        const Hdf5File::Values values = file.read_values(path, kWallClock);
+        hash.add(values.type);
+        hash.add(static_cast<std::int64_t>(values.bytes.size()));
+        hash.add(values.bytes.data(), values.bytes.size());
+        for (const std::string& text : values.strings) hash.add(text);
+      }
       return;
     }
     case Hdf5File::ObjectKind::kGroup: {
@@ -66,7 +75,7 @@ void add_object(const Hdf5File& file, const std::string& path, const std::string
       std::vector<std::string> members = file.member_names(path);
       std::sort(members.begin(), members.end());
       for (const std::string& member : members) {
-        add_object(file, path + "/" + member, relative + "/" + member, depth + 1, hash);
+        add_object(file, path + "/" + member, relative + "/" + member, depth + 1, scope, hash);
       }
       return;
     }
@@ -78,9 +87,9 @@ void add_object(const Hdf5File& file, const std::string& path, const std::string
 
 }  // namespace
 
-std::uint64_t run_digest(const Hdf5File& file, const std::string& group) {
+std::uint64_t run_digest(const Hdf5File& file, const std::string& group, DigestScope scope) {
   Fnv1a hash;
-  add_object(file, group, "", 0, hash);
+  add_object(file, group, "", 0, scope, hash);
   return hash.value();
 }
 

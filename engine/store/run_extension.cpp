@@ -87,7 +87,7 @@ void add_old_fits(Hdf5File& file, const std::string& old_run, const std::string&
   file.append_rows(new_table, rows);
   if (has_axes) file.write_string_attribute(new_table, kStudyAxesAttribute, axes);
 
-  file.remove_attribute(staging, kRunDigestAttribute);
+  file.remove_attribute(staging, kRunDigestAttribute);  // the extension's alone
   file.write_int64_attribute(staging, kRunDigestAttribute,
                              static_cast<std::int64_t>(run_digest(file, staging)));
   file.flush();

@@ -296,8 +296,9 @@ damaged_header)
   reference "$scratch/job.toml" "$scratch/reference.h5"
   "$GGK" run "$scratch/job.toml" -j 2 -q --runs 0:2 -o "$scratch/first.h5" 2>/dev/null
   "$GGK" run "$scratch/job.toml" -j 2 -q --runs 2:4 -o "$scratch/second.h5" 2>/dev/null
-  # The version byte of the message of each attribute inside a fit group's list
-  # (HDF5 format: a version 1 attribute message, then the padded name) set to 0x7f.
+  # The version byte of the message of each attribute inside a fit group's list,
+  # and of the root's task attribute, which every command reads first (HDF5
+  # format: a version 1 attribute message, then the padded name), set to 0x7f.
   /usr/bin/python3 - "$scratch" <<'PYTHON'
 import sys, h5py
 scratch = sys.argv[1]
@@ -309,7 +310,7 @@ for source in ("reference", "second"):
         fits = runs[run]["fits/ggk"]
         names = list(fits[sorted(fits)[0]].attrs)
     data = open(path, "rb").read()
-    for name in names[2:8]:
+    for name in names[2:8] + ["task"]:  # and the root's task attribute
         key = name.encode() + b"\0"
         at = data.find(key)
         while at >= 0 and data[at - 8:at - 4] != bytes([1, 0, len(key), 0]):

@@ -168,11 +168,11 @@ TEST_F(ResultsVerifyTest, ChangesNoChecksumCoversDifferFromTheRunsDigest) {
   EXPECT_EQ(verify_run(file, "maze", 1), std::nullopt);
   const std::optional<std::string> renamed = verify_run(file, "maze", 0);
   ASSERT_NE(renamed, std::nullopt);
-  EXPECT_TRUE(contains(*renamed, "/maze/run_000: its names, attributes or shapes differ"));
+  EXPECT_TRUE(contains(*renamed, "/maze/run_000: its names, attributes, shapes or values differ"));
   EXPECT_NE(verify_run(file, "maze", 2), std::nullopt);
   const auto [whole, printed] = verify();
   EXPECT_FALSE(whole) << printed;
-  EXPECT_TRUE(contains(printed, "/maze/run_000: its names, attributes or shapes differ"));
+  EXPECT_TRUE(contains(printed, "/maze/run_000: its names, attributes, shapes or values differ"));
 }
 
 TEST_F(ResultsVerifyTest, AFileThatIsNoResultsFileIsAUsageError) {

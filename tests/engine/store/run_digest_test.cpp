@@ -14,7 +14,7 @@ namespace {
 
 using namespace test_support;
 
-TEST_F(JobRunnerTest, ARunsDigestCoversNamesAttributesAndShapesOnly) {
+TEST_F(JobRunnerTest, ARunsDigestCoversNamesAttributesShapesAndValues) {
   const JobSpec job = load_job("job.toml", determinism_job(dir_ / "out.h5"));
   run_job(job, options_for(job.output.file));
   const std::string run = "/maze/run_000";
@@ -25,10 +25,17 @@ TEST_F(JobRunnerTest, ARunsDigestCoversNamesAttributesAndShapesOnly) {
   EXPECT_EQ(run_digest(file, run), stored);  // as written (under /.staging, then moved)
   EXPECT_NE(run_digest(file, "/maze/run_001"), stored);
 
-  // Left out: the wall clock and the group's own marks.
+  // Left out: the wall clock (attribute and table column) and the group's own marks.
   file.remove_attribute(fit, "fit_seconds");
   file.write_double_attribute(fit, "fit_seconds", 99.0);
   file.remove_attribute(run, "complete");
+  std::vector<TableRow> rows = file.read_table(run + "/fit_metrics");
+  const std::vector<TableColumn> columns = file.read_table_columns(run + "/fit_metrics");
+  ASSERT_EQ(columns.back().name, "fit_seconds");
+  for (TableRow& row : rows) row.back() = 99.0;
+  file.remove(run + "/fit_metrics");
+  file.create_table(run + "/fit_metrics", columns);
+  file.append_rows(run + "/fit_metrics", rows);
   EXPECT_EQ(run_digest(file, run), stored);
 
   // Covered: an attribute's value, a name, a dataset's shape.
@@ -42,10 +49,26 @@ TEST_F(JobRunnerTest, ARunsDigestCoversNamesAttributesAndShapesOnly) {
   file.move(run + "/graph", run + "/graph_");
   EXPECT_NE(run_digest(file, run), stored);
   file.move(run + "/graph_", run + "/graph");
+  // A dataset's values: another dataset's chunks behind the same name and shape
+  // (what a damaged object header can do, every chunk checksum passing).
   const std::vector<double> weights = file.read_vector<double>(fit + "/weights");
+  std::vector<double> other = weights;
+  other.front() += 1.0;
+  file.remove(fit + "/weights");
+  file.write_vector(fit + "/weights", other);
+  EXPECT_NE(run_digest(file, run), stored);
+  // The metadata digest of older files does not see values.
+  file.remove(fit + "/weights");
+  file.write_vector(fit + "/weights", weights);
+  const std::uint64_t metadata = run_digest(file, run, DigestScope::kMetadata);
+  EXPECT_EQ(run_digest(file, run), stored);
+  file.remove(fit + "/weights");
+  file.write_vector(fit + "/weights", other);
+  EXPECT_EQ(run_digest(file, run, DigestScope::kMetadata), metadata);
   file.remove(fit + "/weights");
   file.write_vector(fit + "/weights", std::vector<double>(weights.begin(), weights.end() - 1));
   EXPECT_NE(run_digest(file, run), stored);
+  EXPECT_NE(run_digest(file, run, DigestScope::kMetadata), metadata);
 }
 
 }  // namespace
