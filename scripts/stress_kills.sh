@@ -249,10 +249,17 @@ resume_overrides() {
     sleep "$delay"
     kill -s "$signal" $pid 2>/dev/null || true
     wait $pid 2>/dev/null || true
-    # The command ggk printed ("... the job with `CMD`"), or none if it finished.
-    command=$(grep -o 'the job with `[^`]*`' "$scratch/stopped" | head -n 1 |
-      sed 's/^the job with `//; s/`$//' || true)
+    # The command ggk printed ("finish the job with `CMD`", or "start the job
+    # again with `CMD`" when no run had landed), or none: it finished, or the
+    # signal came before ggk had set its handlers (no output yet: a person runs
+    # the command again as typed).
+    command=$(grep -o 'the job \(again \)\?with `[^`]*`' "$scratch/stopped" | head -n 1 |
+      sed 's/^the job \(again \)\?with `//; s/`$//' || true)
+    if [ -z "$command" ] && [ ! -e "$out" ]; then
+      command="$(printf '%q ' "$ggk" run "$scratch/job.toml" "${overrides[@]}" -j 2 -q -o "$out")"
+    fi
     s=0
+    : >"$scratch/err"
     if [ -n "$command" ]; then
       timeout "$limit" bash -c "$command" >/dev/null 2>"$scratch/err" || s=$?
     fi
