@@ -242,7 +242,8 @@ int main(int argc, char** argv) {
   add_sweep_option(*run, sweeps);
   run->add_flag("--resume", options.resume, "continue an interrupted run of the same job");
   run->add_flag("--overwrite", options.overwrite, "replace an existing results file");
-  run->add_flag("-q,--quiet", options.quiet, "print nothing but errors");
+  run->add_flag("-q,--quiet", options.quiet,
+                "print nothing but errors and warnings (no progress, no final summary)");
   run->add_flag("--ignore-memory-check", options.ignore_memory_check,
                 "run even when the job's estimated memory exceeds what is available");
   run->add_option("--runs", runs_text,
@@ -260,8 +261,8 @@ int main(int argc, char** argv) {
   validate->add_option("-o,--output", output, "the results file `ggk run -o` would write");
   add_set_option(*validate, overrides);
   add_sweep_option(*validate, sweeps);
-  // -q on every command but run: nothing on standard output or progress on
-  // standard error, only errors (and the exit status).
+  // -q on every command: nothing on standard output, no progress or summary on
+  // standard error; errors and warnings (a damaged run redone) still print.
   bool quiet = false;
   validate->add_flag("-q,--quiet", quiet, "print nothing but errors");
 
@@ -350,7 +351,7 @@ int main(int argc, char** argv) {
         }
         engine::apply_shard_option(shard_text, job_path, load, options);
       }
-      if (!quiet_rank && !options.quiet) {
+      if (!quiet_rank) {  // a warning, printed under -q too
         const auto warning =
             engine::oversubscription_warning(options.threads, engine::affinity_cpus());
         if (warning) std::fprintf(stderr, "ggk: warning: %s\n", warning->c_str());
