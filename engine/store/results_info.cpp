@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -112,7 +113,6 @@ std::string csv_field(const std::string& text) {
 // What `ggk info` reads from a results file, as plain data: the header, how many
 // runs are complete, and every fit of the complete runs (fit_metrics rows).
 struct FitRow {
-  std::int64_t configuration = 0;  // a study's run configuration (0 otherwise)
   std::int64_t run = 0;
   std::int64_t point = 0;           // the sweep point's index
   std::vector<std::string> key;     // its axis values as text
@@ -185,7 +185,6 @@ ResultsContents read_contents(const Hdf5File& file) {
       }
       for (const TableRow& row : file.read_table(table)) {
         FitRow fit;
-        fit.configuration = configuration;
         fit.run = static_cast<std::int64_t>(as_double(row[0]));
         fit.point = (configuration << 32) + static_cast<std::int64_t>(as_double(row[point_column]));
         for (std::size_t c = point_column + 1; c < status_column; ++c) {
@@ -391,24 +390,41 @@ std::vector<PairedPoint> pair_points(const ResultsContents& contents,
                      "' (its axes: " + (axes.empty() ? "none yet" : axes) + ")");
   }
   const auto axis = static_cast<std::size_t>(axis_at - contents.axis_names.begin());
+  // A value as the file writes it ("0.1", "1e-06") or any spelling of the same
+  // number ("0.0" for "0", "0.000001").
+  const auto same_value = [](const std::string& stored, const std::string& given) {
+    if (stored == given) return true;
+    char* end_stored = nullptr;
+    char* end_given = nullptr;
+    const double x = std::strtod(stored.c_str(), &end_stored);
+    const double y = std::strtod(given.c_str(), &end_given);
+    return !stored.empty() && !given.empty() && *end_stored == '\0' && *end_given == '\0' && x == y;
+  };
+  PairedComparison sides = paired;
   std::vector<std::string> values;
   for (const FitRow& fit : contents.fits) {
     if (std::find(values.begin(), values.end(), fit.key[axis]) == values.end()) {
       values.push_back(fit.key[axis]);
     }
   }
-  for (const std::string* side : {&paired.a, &paired.b}) {
-    if (std::find(values.begin(), values.end(), *side) == values.end()) {
+  for (std::string* side : {&sides.a, &sides.b}) {
+    const auto stored = std::find_if(values.begin(), values.end(),
+                                     [&](const std::string& v) { return same_value(v, *side); });
+    if (stored != values.end()) {
+      *side = *stored;
+    } else {
       std::string known;
       for (const std::string& value : values) known += (known.empty() ? "" : ", ") + value;
       throw UsageError("--paired: " + paired.axis + " has no value '" + one_line(*side) +
                        "' in the file (its values: " + (known.empty() ? "none yet" : known) + ")");
     }
   }
-  // Per point of the other axes: (configuration, run) -> the fit of each side.
+  // Per point of the other axes: run -> the fit of each side. The other axes'
+  // values fix a study's run configuration, but for a run-level axis compared
+  // (its two values are two configurations, whose run r share their seeds).
   struct Sides {
     std::vector<std::string> key;
-    std::map<std::pair<std::int64_t, std::int64_t>, std::pair<const FitRow*, const FitRow*>> runs;
+    std::map<std::int64_t, std::pair<const FitRow*, const FitRow*>> runs;
   };
   std::vector<Sides> points;
   std::map<std::vector<std::string>, std::size_t> index_of;
@@ -417,13 +433,13 @@ std::vector<PairedPoint> pair_points(const ResultsContents& contents,
   std::stable_sort(ordered.begin(), ordered.end(),
                    [](const FitRow* x, const FitRow* y) { return x->point < y->point; });
   for (const FitRow* fit : ordered) {
-    const bool is_a = fit->key[axis] == paired.a;
-    if (!is_a && fit->key[axis] != paired.b) continue;
+    const bool is_a = fit->key[axis] == sides.a;
+    if (!is_a && fit->key[axis] != sides.b) continue;
     std::vector<std::string> key = fit->key;
     key.erase(key.begin() + static_cast<std::ptrdiff_t>(axis));
     const auto [at, added] = index_of.emplace(key, points.size());
     if (added) points.push_back({key, {}});
-    auto& slot = points[at->second].runs[{fit->configuration, fit->run}];
+    auto& slot = points[at->second].runs[fit->run];
     (is_a ? slot.first : slot.second) = fit;
   }
   std::vector<PairedPoint> result;
