@@ -47,12 +47,12 @@ int run_command(const std::string& job_path, const engine::RunOptions& options,
                 const engine::JobLoadOptions& load) {
   const engine::Study study = engine::load_study(job_path, engine::task_tables(), load);
   const engine::RunSummary summary = engine::run_study(study, options);
-  engine::print_run_summary(study.job(), summary);
+  if (!options.quiet) engine::print_run_summary(study.job(), summary);
   return 0;
 }
 
 int validate_command(const std::string& job_path, const std::string& output,
-                     engine::JobLoadOptions load) {
+                     engine::JobLoadOptions load, bool quiet) {
   // Checks what `ggk run` with the same arguments would: the job file, the
   // overrides, and the output (-o, else the job's, relative to this directory).
   // A study (study.hpp) has every point checked, and its stages listed.
@@ -68,6 +68,7 @@ int validate_command(const std::string& job_path, const std::string& output,
         configuration.job, 1, 1, static_cast<std::int64_t>(configuration.variants.size()));
     if (estimate.per_run > memory.per_run) memory = estimate;
   }
+  if (quiet) return 0;
   if (!study.has_axes()) {
     std::printf("%s: ok (task %s, %d runs x %zu sweep points); about %s of memory per run\n",
                 job_path.c_str(), job.task.c_str(), job.runs, fits,
@@ -243,7 +244,8 @@ int main(int argc, char** argv) {
   add_sweep_option(*run, sweeps);
   run->add_flag("--resume", options.resume, "continue an interrupted run of the same job");
   run->add_flag("--overwrite", options.overwrite, "replace an existing results file");
-  run->add_flag("-q,--quiet", options.quiet, "no progress output");
+  run->add_flag("-q,--quiet", options.quiet,
+                "print nothing but errors and warnings (no progress, no final summary)");
   run->add_flag("--ignore-memory-check", options.ignore_memory_check,
                 "run even when the job's estimated memory exceeds what is available");
   run->add_option("--runs", runs_text,
@@ -261,17 +263,30 @@ int main(int argc, char** argv) {
   validate->add_option("-o,--output", output, "the results file `ggk run -o` would write");
   add_set_option(*validate, overrides);
   add_sweep_option(*validate, sweeps);
+  // -q on every command: nothing on standard output, no progress or summary on
+  // standard error; errors and warnings (a damaged run redone) still print.
+  bool quiet = false;
+  validate->add_flag("-q,--quiet", quiet, "print nothing but errors");
 
+  engine::InfoOptions info_options;
   bool info_csv = false;
+  std::string info_columns, info_paired;
   CLI::App* info = app.add_subcommand("info", "Describe a results file");
   info->add_option("file", info_path, "results file (HDF5)")->required();
   info->add_flag("--csv", info_csv,
                  "print the per-sweep-point summary as CSV (means and 95 % CI bounds)");
+  info->add_option("--columns", info_columns,
+                   "a,b,c: show these metrics only (default: all), in this order");
+  info->add_option("--paired", info_paired,
+                   "AXIS=A,B: per point of the other axes, the mean difference A - B of each "
+                   "metric paired by run, with its 95 % CI (e.g. basis=ggk,ogk)");
+  info->add_flag("-q,--quiet", quiet, "print nothing but errors");
 
   std::string verify_path;
   CLI::App* verify = app.add_subcommand(
       "verify", "Read every dataset of a results file back: exit 0 when whole, 1 when damaged");
   verify->add_option("file", verify_path, "results file (HDF5)")->required();
+  verify->add_flag("-q,--quiet", quiet, "print nothing but errors: the exit status says it");
 
   std::vector<std::string> diff_files;
   CLI::App* diff = app.add_subcommand(
@@ -286,6 +301,7 @@ int main(int argc, char** argv) {
   diff->add_option("--exclude", diff_options.exclude,
                    "GLOB: leave out objects whose printed path matches (repeatable), e.g. "
                    "'*/history/*'");
+  diff->add_flag("-q,--quiet", quiet, "print nothing but errors: the exit status says it");
 
   std::string merge_output, merge_job;
   std::vector<std::string> merge_inputs;
@@ -303,6 +319,7 @@ int main(int argc, char** argv) {
                     "wrote, OUT.shard-I-of-N.h5, refusing when one is missing");
   merge->add_flag("--allow-partial", merge_options.allow_partial,
                   "merge even when runs are missing (ggk run --resume computes them)");
+  merge->add_flag("-q,--quiet", quiet, "print nothing but errors");
 
   try {
     check_spelling(app, argc, argv);
@@ -336,7 +353,7 @@ int main(int argc, char** argv) {
         }
         engine::apply_shard_option(shard_text, job_path, load, options);
       }
-      if (!quiet_rank) {
+      if (!quiet_rank) {  // a warning, printed under -q too
         const auto warning =
             engine::oversubscription_warning(options.threads, engine::affinity_cpus());
         if (warning) std::fprintf(stderr, "ggk: warning: %s\n", warning->c_str());
@@ -354,33 +371,36 @@ int main(int argc, char** argv) {
       load.check_output = options.output.empty();  // -o replaces the job's output
       return run_command(job_path, options, load);
     }
-    if (quiet_rank) return 0;  // the other commands run on rank 0 alone
-    if (*validate) return validate_command(job_path, output, load);
+    if (quiet_rank) return 0;       // the other commands run on rank 0 alone
+    std::ostream discard(nullptr);  // -q: what would be printed, dropped
+    std::ostream& out = quiet ? discard : std::cout;
+    if (*validate) return validate_command(job_path, output, load, quiet);
     // The commands that read files ggk did not just write read them in a child
     // process: a file that crashes the HDF5 library is a damaged file
     // (run/isolated_reading.hpp).
     if (*info) {
+      info_options.format = info_csv ? engine::InfoFormat::kCsv : engine::InfoFormat::kText;
+      info_options.columns = engine::info_column_list(info_columns);
+      if (!info_paired.empty()) info_options.paired = engine::parse_paired_option(info_paired);
       return engine::read_isolated({info_path}, [&] {
-        engine::print_results_info(info_path, std::cout,
-                                   info_csv ? engine::InfoFormat::kCsv : engine::InfoFormat::kText,
-                                   engine::metric_kind);
+        engine::print_results_info(info_path, out, info_options, engine::metric_kind);
         return 0;
       });
     }
     if (*verify) {
       try {
         return engine::read_isolated(
-            {verify_path}, [&] { return engine::verify_results(verify_path, std::cout) ? 0 : 1; });
+            {verify_path}, [&] { return engine::verify_results(verify_path, out) ? 0 : 1; });
       } catch (const engine::ReadingCrash& e) {
-        std::cout << verify_path << ": DAMAGED: reading it crashed the HDF5 library (" << e.how()
-                  << "): an object header is damaged where HDF5 does not check before it "
-                     "reads; ggk cannot read this file\n";
+        out << verify_path << ": DAMAGED: reading it crashed the HDF5 library (" << e.how()
+            << "): an object header is damaged where HDF5 does not check before it "
+               "reads; ggk cannot read this file\n";
         return 1;
       }
     }
     if (*diff) {
       return engine::read_isolated({diff_files[0], diff_files[1]}, [&] {
-        return engine::diff_results(diff_files[0], diff_files[1], std::cout, diff_options) ? 0 : 1;
+        return engine::diff_results(diff_files[0], diff_files[1], out, diff_options) ? 0 : 1;
       });
     }
     if (*merge) {
@@ -400,7 +420,8 @@ int main(int argc, char** argv) {
         throw engine::UsageError("merge output: " + *problem);
       }
       merge_options.program = invocation.front();
-      return engine::merge_results_isolated(merge_output, shards, merge_options, std::cerr);
+      return engine::merge_results_isolated(merge_output, shards, merge_options,
+                                            quiet ? discard : std::cerr);
     }
   } catch (const engine::JobError& e) {
     if (!quiet_rank) std::fprintf(stderr, "ggk: error: %s\n", e.what());

@@ -15,8 +15,9 @@
 #                                        # more at -j 2) -> results/figures/khepera_claim_map.png
 #   bash scripts/reproduce.sh --quick    # reduced: the paper's arm and Khepera jobs
 #                                        # with fewer runs and kernel counts (--set),
-#                                        # under 2 minutes on 2 cores
-#                                        # -> out/quick/*.h5, out/quick/figures/
+#                                        # under 2 minutes on 2 cores; every figure of
+#                                        # the arm and the Khepera, Figs. 1(a) and 4(a)
+#                                        # included -> out/quick/*.h5, out/quick/figures/
 #   extra arguments go to every `ggk run` (e.g. -j 8)
 # Needs build/ggk (scripts/build.sh) and /usr/bin/python3 with h5py, scipy, matplotlib.
 set -euo pipefail
@@ -51,11 +52,14 @@ if [ $quick = 1 ]; then
     --set 'sweep.solver=["brm"]' "$@"
   $python results/plot_arm.py "$dir/arm.h5" "$figures"
   $python results/plot_khepera.py "$dir/khepera.h5" "$figures"
+  $python results/plot_arm_workspace.py "$dir/arm.h5" "$figures"        # Fig. 1(a)
+  $python results/plot_khepera_arena.py "$dir/khepera.h5" "$figures"    # Fig. 4(a)
   echo "== claims (reduced: 10 and 4 runs, wide intervals)" >&2
   for f in "$dir/arm.h5" "$dir/khepera.h5"; do "$ggk" info "$f"; echo; done
   $python results/claims.py --results "$dir"
   echo "reproduce.sh: the reduced reproduction's figures are in $figures/, e.g." \
-    "$figures/arm_success.png (paper Fig. 3) and $figures/khepera_return.png (Fig. 6);" \
+    "$figures/arm_workspace.png (paper Fig. 1(a)), $figures/arm_success.png (Fig. 3)," \
+    "$figures/khepera_arena.png (Fig. 4(a)) and $figures/khepera_return.png (Fig. 6);" \
     "bash scripts/reproduce.sh runs the paper at full scale" >&2
   exit 0
 fi

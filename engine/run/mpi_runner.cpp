@@ -610,7 +610,7 @@ int run_job_over_mpi(const MpiSession& session, const std::filesystem::path& job
     Coordinator coordinator(*study, options, size, std::move(*opened));
     RunSummary summary;
     status = coordinator.run(summary);
-    if (status == 0) print_run_summary(job, summary);
+    if (status == 0 && !options.run.quiet) print_run_summary(job, summary);
     std::fflush(stderr);
     coordinator.release_stopped_workers();  // a stop signal that came after the last run
   });

@@ -1,17 +1,20 @@
 #include "engine/store/results_info.hpp"
 
 #include <algorithm>
-#include <array>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <variant>
 #include <vector>
+
+#include <boost/math/distributions/students_t.hpp>
 
 #include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/usage_error.hpp"
@@ -22,24 +25,8 @@
 namespace ggk::engine {
 
 double student_t_975(std::int64_t dof) {
-  // scipy.stats.t.ppf(0.975, dof) for 1..30 degrees of freedom.
-  static constexpr std::array<double, 30> kTable = {
-      12.706205, 4.302653, 3.182446, 2.776445, 2.570582, 2.446912, 2.364624, 2.306004,
-      2.262157,  2.228139, 2.200985, 2.178813, 2.160369, 2.144787, 2.131450, 2.119905,
-      2.109816,  2.100922, 2.093024, 2.085963, 2.079614, 2.073873, 2.068658, 2.063899,
-      2.059539,  2.055529, 2.051831, 2.048407, 2.045230, 2.042272};
   if (dof < 1) return std::nan("");
-  if (dof <= static_cast<std::int64_t>(kTable.size())) return kTable[dof - 1];
-  // Beyond 30: the Cornish-Fisher expansion about the normal quantile (error
-  // under 1e-6 there; Abramowitz & Stegun 26.7.5).
-  const double z = 1.959963984540054;
-  const double n = static_cast<double>(dof);
-  const double z2 = z * z;
-  const double g1 = (z2 + 1) * z / 4;
-  const double g2 = ((5 * z2 + 16) * z2 + 3) * z / 96;
-  const double g3 = (((3 * z2 + 19) * z2 + 17) * z2 - 15) * z / 384;
-  const double g4 = ((((79 * z2 + 776) * z2 + 1482) * z2 - 1920) * z2 - 945) * z / 92160;
-  return z + g1 / n + g2 / (n * n) + g3 / (n * n * n) + g4 / (n * n * n * n);
+  return boost::math::quantile(boost::math::students_t(static_cast<double>(dof)), 0.975);
 }
 
 Interval mean_interval(std::span<const double> values) {
@@ -126,6 +113,7 @@ std::string csv_field(const std::string& text) {
 // What `ggk info` reads from a results file, as plain data: the header, how many
 // runs are complete, and every fit of the complete runs (fit_metrics rows).
 struct FitRow {
+  std::int64_t run = 0;
   std::int64_t point = 0;           // the sweep point's index
   std::vector<std::string> key;     // its axis values as text
   std::optional<FitStatus> status;  // none for a status this ggk does not know
@@ -197,6 +185,7 @@ ResultsContents read_contents(const Hdf5File& file) {
       }
       for (const TableRow& row : file.read_table(table)) {
         FitRow fit;
+        fit.run = static_cast<std::int64_t>(as_double(row[0]));
         fit.point = (configuration << 32) + static_cast<std::int64_t>(as_double(row[point_column]));
         for (std::size_t c = point_column + 1; c < status_column; ++c) {
           fit.key.push_back(as_text(row[c]));
@@ -346,12 +335,231 @@ void write_text(const std::filesystem::path& path, const ResultsContents& conten
   write_aligned(cells, out);
 }
 
-void print_info(const std::filesystem::path& path, std::ostream& out, InfoFormat format,
+// Keeps the metrics named in `columns`, in that order (all when empty); a name
+// that is no metric of the file is a UsageError listing the metrics.
+void keep_columns(ResultsContents& contents, const std::vector<std::string>& columns) {
+  if (columns.empty()) return;
+  std::vector<std::size_t> kept;
+  for (const std::string& name : columns) {
+    const auto at = std::find(contents.metric_names.begin(), contents.metric_names.end(), name);
+    if (at == contents.metric_names.end()) {
+      std::string known;
+      for (const std::string& metric : contents.metric_names) {
+        known += (known.empty() ? "" : ", ") + metric;
+      }
+      throw UsageError("--columns: '" + one_line(name) + "' is no metric of the file (its " +
+                       "metrics: " + (known.empty() ? "none yet" : known) + ")");
+    }
+    kept.push_back(static_cast<std::size_t>(at - contents.metric_names.begin()));
+  }
+  std::vector<std::string> names;
+  for (const std::size_t m : kept) names.push_back(contents.metric_names[m]);
+  contents.metric_names = std::move(names);
+  for (FitRow& fit : contents.fits) {
+    std::vector<double> values;
+    for (const std::size_t m : kept) values.push_back(fit.values[m]);
+    fit.values = std::move(values);
+  }
+}
+
+// A metric's paired difference at one point of the other axes.
+struct PairedMetric {
+  double mean_a = 0.0, mean_b = 0.0;
+  Interval difference;
+  std::int64_t pairs = 0;
+  const char* method = "t";
+};
+
+struct PairedPoint {
+  std::vector<std::string> key;  // the other axes' values
+  std::vector<PairedMetric> metrics;
+};
+
+// Per point of the axes other than `paired.axis` (in sweep order), each
+// metric's a - b over the runs (and configurations) holding both sides with
+// finite values: Newcombe's interval for a rate whose pairs are all 0 or 1,
+// else the paired t (python/ggk_results/paired.py makes the same choice).
+std::vector<PairedPoint> pair_points(const ResultsContents& contents,
+                                     const PairedComparison& paired, MetricKindLookup metric_kind) {
+  const auto axis_at =
+      std::find(contents.axis_names.begin(), contents.axis_names.end(), paired.axis);
+  if (axis_at == contents.axis_names.end()) {
+    std::string axes;
+    for (const std::string& axis : contents.axis_names) axes += (axes.empty() ? "" : ", ") + axis;
+    throw UsageError("--paired: the file has no axis '" + one_line(paired.axis) +
+                     "' (its axes: " + (axes.empty() ? "none yet" : axes) + ")");
+  }
+  const auto axis = static_cast<std::size_t>(axis_at - contents.axis_names.begin());
+  // A value as the file writes it ("0.1", "1e-06") or any spelling of the same
+  // number ("0.0" for "0", "0.000001").
+  const auto same_value = [](const std::string& stored, const std::string& given) {
+    if (stored == given) return true;
+    char* end_stored = nullptr;
+    char* end_given = nullptr;
+    const double x = std::strtod(stored.c_str(), &end_stored);
+    const double y = std::strtod(given.c_str(), &end_given);
+    return !stored.empty() && !given.empty() && *end_stored == '\0' && *end_given == '\0' && x == y;
+  };
+  PairedComparison sides = paired;
+  std::vector<std::string> values;
+  for (const FitRow& fit : contents.fits) {
+    if (std::find(values.begin(), values.end(), fit.key[axis]) == values.end()) {
+      values.push_back(fit.key[axis]);
+    }
+  }
+  for (std::string* side : {&sides.a, &sides.b}) {
+    const auto stored = std::find_if(values.begin(), values.end(),
+                                     [&](const std::string& v) { return same_value(v, *side); });
+    if (stored != values.end()) {
+      *side = *stored;
+    } else {
+      std::string known;
+      for (const std::string& value : values) known += (known.empty() ? "" : ", ") + value;
+      throw UsageError("--paired: " + paired.axis + " has no value '" + one_line(*side) +
+                       "' in the file (its values: " + (known.empty() ? "none yet" : known) + ")");
+    }
+  }
+  // Per point of the other axes: run -> the fit of each side. The other axes'
+  // values fix a study's run configuration, but for a run-level axis compared
+  // (its two values are two configurations, whose run r share their seeds).
+  struct Sides {
+    std::vector<std::string> key;
+    std::map<std::int64_t, std::pair<const FitRow*, const FitRow*>> runs;
+  };
+  std::vector<Sides> points;
+  std::map<std::vector<std::string>, std::size_t> index_of;
+  std::vector<const FitRow*> ordered;
+  for (const FitRow& fit : contents.fits) ordered.push_back(&fit);
+  std::stable_sort(ordered.begin(), ordered.end(),
+                   [](const FitRow* x, const FitRow* y) { return x->point < y->point; });
+  for (const FitRow* fit : ordered) {
+    const bool is_a = fit->key[axis] == sides.a;
+    if (!is_a && fit->key[axis] != sides.b) continue;
+    std::vector<std::string> key = fit->key;
+    key.erase(key.begin() + static_cast<std::ptrdiff_t>(axis));
+    const auto [at, added] = index_of.emplace(key, points.size());
+    if (added) points.push_back({key, {}});
+    auto& slot = points[at->second].runs[fit->run];
+    (is_a ? slot.first : slot.second) = fit;
+  }
+  std::vector<PairedPoint> result;
+  for (const Sides& point : points) {
+    PairedPoint out{point.key, {}};
+    for (std::size_t m = 0; m < contents.metric_names.size(); ++m) {
+      std::vector<double> a, b;
+      for (const auto& entry : point.runs) {
+        const FitRow* x = entry.second.first;
+        const FitRow* y = entry.second.second;
+        if (x == nullptr || y == nullptr) continue;
+        if (std::isnan(x->values[m]) || std::isnan(y->values[m])) continue;
+        a.push_back(x->values[m]);
+        b.push_back(y->values[m]);
+      }
+      PairedMetric metric;
+      metric.pairs = static_cast<std::int64_t>(a.size());
+      const double nan = std::nan("");
+      metric.mean_a =
+          a.empty() ? nan
+                    : std::accumulate(a.begin(), a.end(), 0.0) / static_cast<double>(a.size());
+      metric.mean_b =
+          b.empty() ? nan
+                    : std::accumulate(b.begin(), b.end(), 0.0) / static_cast<double>(b.size());
+      const auto binary = [](const std::vector<double>& v) {
+        return std::all_of(v.begin(), v.end(), [](double x) { return x == 0.0 || x == 1.0; });
+      };
+      if (metric_kind(contents.header.task, contents.metric_names[m]) == MetricKind::kRate &&
+          binary(a) && binary(b)) {
+        metric.method = "newcombe";
+        metric.difference = newcombe_paired_interval(a, b);
+      } else {
+        metric.difference = paired_t_interval(a, b);
+      }
+      out.metrics.push_back(metric);
+    }
+    result.push_back(std::move(out));
+  }
+  return result;
+}
+
+void write_paired_csv(const ResultsContents& contents, const PairedComparison& paired,
+                      std::span<const PairedPoint> points, std::ostream& out) {
+  if (points.empty()) return;
+  const auto write_line = [&out](const std::vector<std::string>& fields) {
+    for (std::size_t i = 0; i < fields.size(); ++i) out << (i == 0 ? "" : ",") << fields[i];
+    out << "\n";
+  };
+  // <m>_a, <m>_b: the means of the two sides over the pairs (as paired()'s a, b).
+  std::vector<std::string> header;
+  for (const std::string& axis : contents.axis_names) {
+    if (axis != paired.axis) header.push_back(csv_field(axis));
+  }
+  for (const std::string& name : contents.metric_names) {
+    for (const char* suffix : {"_a", "_b", "_difference", "_ci_low", "_ci_high", "_pairs"}) {
+      header.push_back(csv_field(name + suffix));
+    }
+  }
+  write_line(header);
+  for (const PairedPoint& p : points) {
+    std::vector<std::string> fields;
+    for (const std::string& k : p.key) fields.push_back(csv_field(k));
+    for (const PairedMetric& m : p.metrics) {
+      for (const double v :
+           {m.mean_a, m.mean_b, m.difference.estimate, m.difference.low, m.difference.high}) {
+        fields.push_back(number_text(v, 17));
+      }
+      fields.push_back(std::to_string(m.pairs));
+    }
+    write_line(fields);
+  }
+}
+
+void write_paired_text(const std::filesystem::path& path, const ResultsContents& contents,
+                       const PairedComparison& paired, std::span<const PairedPoint> points,
+                       std::ostream& out) {
+  out << "file:     " << path.string() << "\n"
+      << "task:     " << one_line(contents.header.task) << "\n"
+      << "paired:   " << paired.axis << " " << paired.a << " - " << paired.b
+      << ", by run; per point of the other axes: mean difference [95 % CI: paired Student t, "
+         "Newcombe for 0/1 rates] (pairs)\n";
+  if (points.empty()) return;
+  std::vector<std::vector<std::string>> cells;
+  std::vector<std::string> header_cells;
+  for (const std::string& axis : contents.axis_names) {
+    if (axis != paired.axis) header_cells.push_back(axis);
+  }
+  header_cells.insert(header_cells.end(), contents.metric_names.begin(),
+                      contents.metric_names.end());
+  cells.push_back(std::move(header_cells));
+  for (const PairedPoint& p : points) {
+    std::vector<std::string> line = p.key;
+    for (const PairedMetric& m : p.metrics) {
+      const Interval& ci = m.difference;
+      line.push_back((std::isnan(ci.low) ? number_text(ci.estimate)
+                                         : number_text(ci.estimate) + " [" + number_text(ci.low) +
+                                               ", " + number_text(ci.high) + "]") +
+                     " (" + std::to_string(m.pairs) + ")");
+    }
+    cells.push_back(std::move(line));
+  }
+  write_aligned(cells, out);
+}
+
+void print_info(const std::filesystem::path& path, std::ostream& out, const InfoOptions& options,
                 MetricKindLookup metric_kind) {
   const Hdf5File file = open_for_reading(path);
-  const ResultsContents contents = read_contents(file);
+  ResultsContents contents = read_contents(file);
+  keep_columns(contents, options.columns);
+  if (options.paired) {
+    const std::vector<PairedPoint> points = pair_points(contents, *options.paired, metric_kind);
+    if (options.format == InfoFormat::kCsv) {
+      write_paired_csv(contents, *options.paired, points, out);
+    } else {
+      write_paired_text(path, contents, *options.paired, points, out);
+    }
+    return;
+  }
   const std::vector<PointSummary> points = summarise_points(contents, metric_kind);
-  if (format == InfoFormat::kCsv) {
+  if (options.format == InfoFormat::kCsv) {
     write_csv(contents, points, out);
   } else {
     write_text(path, contents, points, out);
@@ -378,13 +586,99 @@ Interval metric_interval(std::span<const double> values, MetricKind kind) {
   return mean_interval(values);
 }
 
+Interval paired_t_interval(std::span<const double> a, std::span<const double> b) {
+  std::vector<double> differences;
+  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+    if (!std::isnan(a[i]) && !std::isnan(b[i])) differences.push_back(a[i] - b[i]);
+  }
+  return mean_interval(differences);  // ttest_rel's interval is the differences' t interval
+}
+
+Interval newcombe_paired_interval(std::span<const double> a, std::span<const double> b) {
+  const double nan = std::nan("");
+  const std::size_t size = std::min(a.size(), b.size());
+  if (size == 0) return {nan, nan, nan};
+  std::int64_t both = 0, only_a = 0, only_b = 0;
+  for (std::size_t i = 0; i < size; ++i) {
+    both += a[i] == 1.0 && b[i] == 1.0 ? 1 : 0;
+    only_a += a[i] == 1.0 && b[i] != 1.0 ? 1 : 0;
+    only_b += a[i] != 1.0 && b[i] == 1.0 ? 1 : 0;
+  }
+  const auto n = static_cast<std::int64_t>(size);
+  const std::int64_t neither = n - both - only_a - only_b;
+  const Interval r1 = wilson_interval(both + only_a, n);
+  const Interval r2 = wilson_interval(both + only_b, n);
+  // phi: the correlation of the pairs' outcomes, 0 when a margin is empty;
+  // a positive product difference shrunk by n / 2 (Newcombe's continuity).
+  const double margins = static_cast<double>(both + only_a) *
+                         static_cast<double>(only_b + neither) *
+                         static_cast<double>(both + only_b) * static_cast<double>(only_a + neither);
+  double phi = 0.0;
+  if (margins > 0) {
+    const double product = static_cast<double>(both) * static_cast<double>(neither) -
+                           static_cast<double>(only_a) * static_cast<double>(only_b);
+    const double corrected =
+        product > 0 ? std::max(product - static_cast<double>(n) / 2, 0.0) : product;
+    phi = corrected / std::sqrt(margins);
+  }
+  const double p1 = r1.estimate, p2 = r2.estimate;
+  const double d = p1 - p2;
+  const double low_spread = (p1 - r1.low) * (p1 - r1.low) -
+                            2 * phi * (p1 - r1.low) * (r2.high - p2) +
+                            (r2.high - p2) * (r2.high - p2);
+  const double high_spread = (p2 - r2.low) * (p2 - r2.low) -
+                             2 * phi * (p2 - r2.low) * (r1.high - p1) +
+                             (r1.high - p1) * (r1.high - p1);
+  return {d, std::max(-1.0, d - std::sqrt(std::max(0.0, low_spread))),
+          std::min(1.0, d + std::sqrt(std::max(0.0, high_spread)))};
+}
+
+PairedComparison parse_paired_option(std::string_view text) {
+  const std::size_t equals = text.find('=');
+  const std::size_t comma = text.find(',', equals == std::string_view::npos ? 0 : equals);
+  if (equals == std::string_view::npos || equals == 0 || comma == std::string_view::npos ||
+      comma == equals + 1 || comma + 1 == text.size() ||
+      text.find(',', comma + 1) != std::string_view::npos) {
+    throw UsageError("--paired '" + one_line(std::string(text)) +
+                     "': write AXIS=A,B, e.g. --paired basis=ggk,ogk");
+  }
+  return {std::string(text.substr(0, equals)),
+          std::string(text.substr(equals + 1, comma - equals - 1)),
+          std::string(text.substr(comma + 1))};
+}
+
+std::vector<std::string> info_column_list(std::string_view text) {
+  std::vector<std::string> names;
+  if (text.empty()) return names;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string_view name = text.substr(
+        start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    if (name.empty()) {
+      throw UsageError("--columns '" + one_line(std::string(text)) +
+                       "': an empty name (write a,b,c)");
+    }
+    names.emplace_back(name);
+    if (comma == std::string_view::npos) return names;
+    start = comma + 1;
+  }
+}
+
 void print_results_info(const std::filesystem::path& path, std::ostream& out, InfoFormat format,
                         MetricKindLookup metric_kind) {
+  InfoOptions options;
+  options.format = format;
+  print_results_info(path, out, options, metric_kind);
+}
+
+void print_results_info(const std::filesystem::path& path, std::ostream& out,
+                        const InfoOptions& options, MetricKindLookup metric_kind) {
   // What is printed is gathered first: a file that fails half way (an attribute
   // of the wrong type, damage) prints one error, not half a report.
   std::ostringstream report;
   try {
-    print_info(path, report, format, metric_kind);
+    print_info(path, report, options, metric_kind);
   } catch (const UsageError&) {
     throw;
   } catch (const std::runtime_error& e) {

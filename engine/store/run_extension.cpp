@@ -79,13 +79,16 @@ void add_old_fits(Hdf5File& file, const std::string& old_run, const std::string&
   std::sort(rows.begin(), rows.end(), [&](const TableRow& a, const TableRow& b) {
     return std::get<std::int32_t>(a[point_column]) < std::get<std::int32_t>(b[point_column]);
   });
-  std::string axes;
-  const bool has_axes = file.has_attribute(new_table, kStudyAxesAttribute);
-  if (has_axes) axes = file.read_string_attribute(new_table, kStudyAxesAttribute);
+  // The table again, with every row, and its attributes (strings: dims, units,
+  // description, study_axes).
+  std::vector<std::pair<std::string, std::string>> attributes;
+  for (const std::string& name : file.attribute_names(new_table)) {
+    attributes.emplace_back(name, file.read_string_attribute(new_table, name));
+  }
   file.remove(new_table);
   file.create_table(new_table, columns);
   file.append_rows(new_table, rows);
-  if (has_axes) file.write_string_attribute(new_table, kStudyAxesAttribute, axes);
+  for (const auto& [name, text] : attributes) file.write_string_attribute(new_table, name, text);
 
   file.remove_attribute(staging, kRunDigestAttribute);  // the extension's alone
   file.write_int64_attribute(staging, kRunDigestAttribute,

@@ -8,10 +8,12 @@
 #include <cstdlib>
 #include <iterator>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <system_error>
 
+#include "engine/store/dataset_schema.hpp"
 #include "engine/store/disk_room.hpp"
 #include "engine/store/run_digest.hpp"
 
@@ -126,6 +128,49 @@ TableValue study_cell(const std::string& value) {
   }
 }
 
+bool is_integer_metric(const RunRecord& record, const std::string& name) {
+  return std::find(record.integer_metrics.begin(), record.integer_metrics.end(), name) !=
+         record.integer_metrics.end();
+}
+
+// An integer metric's value as int64; one that is not a whole number is a bug
+// of the task that declared it.
+std::int64_t whole_number(const std::string& name, double value) {
+  if (!(std::trunc(value) == value && std::abs(value) < 9.0e15)) {
+    throw std::logic_error("metric '" + name + "' is declared an integer but is " +
+                           format_number(value));
+  }
+  return static_cast<std::int64_t>(value);
+}
+
+// `value` as a column of type `type` holds it: int32, int64 and float64 convert
+// into each other when the value is exact in the target type; anything else
+// is returned as it is (and refused by the table's writer).
+TableValue as_column_type(TableValue value, ColumnType type) {
+  const auto number = [&]() -> std::optional<double> {
+    if (const auto* i = std::get_if<std::int32_t>(&value)) return *i;
+    if (const auto* l = std::get_if<std::int64_t>(&value)) return static_cast<double>(*l);
+    if (const auto* d = std::get_if<double>(&value)) return *d;
+    return std::nullopt;
+  }();
+  if (!number) return value;
+  const double x = *number;
+  const bool whole = std::trunc(x) == x;
+  switch (type) {
+    case ColumnType::kFloat64:
+      return x;
+    case ColumnType::kInt64:
+      if (whole && std::abs(x) < 9.0e15) return static_cast<std::int64_t>(x);
+      return value;
+    case ColumnType::kInt32:
+      if (whole && x >= INT32_MIN && x <= INT32_MAX) return static_cast<std::int32_t>(x);
+      return value;
+    case ColumnType::kString:
+      return value;
+  }
+  return value;
+}
+
 TableRow summary_row(const RunRecord& record, const FitRecord& fit) {
   TableRow row = {record.run};
   for (TableValue value :
@@ -135,12 +180,19 @@ TableRow summary_row(const RunRecord& record, const FitRecord& fit) {
   }
   for (const AxisAssignment& value : fit.point.study_values) row.push_back(study_cell(value.value));
   row.emplace_back(fit.status);
-  for (const auto& [name, value] : fit.metrics) row.emplace_back(value);
+  for (const auto& [name, value] : fit.metrics) {
+    if (is_integer_metric(record, name)) {
+      row.emplace_back(whole_number(name, value));
+    } else {
+      row.emplace_back(value);
+    }
+  }
   row.emplace_back(fit.fit_seconds);
   return row;
 }
 
-void write_fit(Hdf5File& file, const std::string& group, const FitRecord& fit, const JobSpec& job) {
+void write_fit(Hdf5File& file, const std::string& group, const FitRecord& fit, const JobSpec& job,
+               const RunRecord& record) {
   file.create_group(group);
   file.write_string_attribute(group, "basis", kernel_type_name(fit.point.basis));
   file.write_int64_attribute(group, "kernels", fit.point.kernels);
@@ -170,7 +222,13 @@ void write_fit(Hdf5File& file, const std::string& group, const FitRecord& fit, c
   file.write_vector(group + "/history/relative_residual", as_span(residuals));
   file.write_vector(group + "/history/rcond", as_span(rconds));
   file.write_vector(group + "/history/dense_solve", as_span(dense_solves));
-  for (const auto& [name, value] : fit.metrics) file.write_double_attribute(group, name, value);
+  for (const auto& [name, value] : fit.metrics) {
+    if (is_integer_metric(record, name)) {
+      file.write_int64_attribute(group, name, whole_number(name, value));
+    } else {
+      file.write_double_attribute(group, name, value);
+    }
+  }
   file.write_double_attribute(group, "fit_seconds", fit.fit_seconds);
   if (job.output.store_matrices && fit.lspi.weights.size() > 0) {
     // A as CSR (transposing the column-major system); BRM stores its lower triangle.
@@ -301,13 +359,15 @@ std::string fit_group_name(const JobSpec& /*job*/, const SweepPoint& point) {
   return fit_group_name(point);
 }
 
-std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names) {
-  return summary_columns(metric_names, false, {});
+std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names,
+                                         const std::vector<std::string>& integer_metrics) {
+  return summary_columns(metric_names, false, {}, integer_metrics);
 }
 
 std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names,
                                          bool configuration,
-                                         const std::vector<AxisAssignment>& study_values) {
+                                         const std::vector<AxisAssignment>& study_values,
+                                         const std::vector<std::string>& integer_metrics) {
   std::vector<TableColumn> columns = {{"run", ColumnType::kInt32, 0}};
   if (configuration) columns.push_back({"configuration", ColumnType::kInt32, 0});
   for (TableColumn column :
@@ -323,7 +383,11 @@ std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_
     columns.push_back({value.key, study_column_type(value.value), kVariableLength});
   }
   columns.push_back({"status", ColumnType::kString, kVariableLength});
-  for (const std::string& name : metric_names) columns.push_back({name, ColumnType::kFloat64, 0});
+  for (const std::string& name : metric_names) {
+    const bool integer =
+        std::find(integer_metrics.begin(), integer_metrics.end(), name) != integer_metrics.end();
+    columns.push_back({name, integer ? ColumnType::kInt64 : ColumnType::kFloat64, 0});
+  }
   columns.push_back({"fit_seconds", ColumnType::kFloat64, 0});
   return columns;
 }
@@ -343,15 +407,19 @@ std::string stage_run(Hdf5File& file, const JobSpec& job, const RunRecord& recor
   write_samples(file, staging + "/samples", record.samples);
   write_graph(file, staging + "/graph", record);
   for (const NamedArray& array : record.arrays) write_named_array(file, staging, array);
+  if (!record.action_names.empty()) {
+    file.write_strings(staging + "/action_names", record.action_names);
+  }
   std::vector<TableRow> rows;
   for (const FitRecord& fit : record.fits) {
-    write_fit(file, staging + "/fits/" + fit_group_name(job, fit.point), fit, job);
+    write_fit(file, staging + "/fits/" + fit_group_name(job, fit.point), fit, job, record);
     rows.push_back(summary_row(record, fit));
   }
   const std::vector<AxisAssignment> no_values;
   const std::vector<AxisAssignment>& study_values =
       record.fits.empty() ? no_values : record.fits.front().point.study_values;
-  const auto columns = summary_columns(metric_names_of(record), false, study_values);
+  const auto columns =
+      summary_columns(metric_names_of(record), false, study_values, record.integer_metrics);
   file.create_table(staging + "/fit_metrics", columns);
   file.append_rows(staging + "/fit_metrics", rows);
   if (!study_values.empty()) {
@@ -359,6 +427,7 @@ std::string stage_run(Hdf5File& file, const JobSpec& job, const RunRecord& recor
     for (const AxisAssignment& value : study_values) axes += (axes.empty() ? "" : ",") + value.key;
     file.write_string_attribute(staging + "/fit_metrics", kStudyAxesAttribute, axes);
   }
+  describe_datasets(file, staging);  // dims, units, description (dataset_schema.hpp)
   file.write_int64_attribute(staging, kRunDigestAttribute,
                              static_cast<std::int64_t>(run_digest(file, staging)));
   file.flush();
@@ -505,6 +574,12 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
         }
       }
       for (TableRow& row : file.read_table(table)) {
+        // The first run's column types: runs of an older ggk (float64 integer
+        // metrics) and of this one (int64) make one summary.
+        const std::size_t offset = configurations ? 1 : 0;
+        for (std::size_t c = 0; c < row.size() && c + (c == 0 ? 0 : offset) < columns.size(); ++c) {
+          row[c] = as_column_type(std::move(row[c]), columns[c + (c == 0 ? 0 : offset)].type);
+        }
         if (!configurations) {
           rows.push_back(std::move(row));
           continue;
@@ -528,6 +603,7 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
     file.create_table(staged, columns);
     file.append_rows(staged, rows);
     if (!study_axes.empty()) file.write_string_attribute(staged, kStudyAxesAttribute, study_axes);
+    describe_table(file, staged, "one row per fit of every complete run, in run order");
     file.flush();
   }
   if (file.exists(path)) file.move(path, retired);

@@ -43,12 +43,15 @@ bool is_scratch(std::string_view root_member);
 std::string fit_group_name(const SweepPoint& point);
 std::string fit_group_name(const JobSpec& job, const SweepPoint& point);  // the same name
 
-// The columns of fit_metrics and summary for a task whose fits report `metrics`;
-// of a study's: with the configuration column and the study keys' columns.
-std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names);
+// The columns of fit_metrics and summary for a task whose fits report `metrics`
+// (float64, those named in `integer_metrics` int64); of a study's: with the
+// configuration column and the study keys' columns.
+std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names,
+                                         const std::vector<std::string>& integer_metrics = {});
 std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_names,
                                          bool configuration,
-                                         const std::vector<AxisAssignment>& study_values);
+                                         const std::vector<AxisAssignment>& study_values,
+                                         const std::vector<std::string>& integer_metrics = {});
 inline constexpr const char* kStudyAxesAttribute = "study_axes";
 
 // Where a job's runs live under the root, without the leading '/': its task
@@ -108,6 +111,8 @@ void discard_run(Hdf5File& file, const std::string& task, std::int32_t run);
 void drop_staging(Hdf5File& file);
 
 // (Re)writes /<task>/summary from the fit_metrics of every complete run, staged
+// (a column takes the first run's type: a whole-number metric of a run written
+// as float64 by an older ggk and as int64 now is converted, never rounded)
 // (written whole under /.staging, then moved into place), and removes the
 // staging group: call it when no run is being written. Returns the number of rows.
 std::int64_t write_summary(Hdf5File& file, const JobSpec& job);

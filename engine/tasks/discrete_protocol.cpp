@@ -311,6 +311,14 @@ RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscretePr
                                 std::span<const SweepPoint> points) {
   RunRecord record;
   record.run = run;
+  record.action_names = env.action_names;
+  record.integer_metrics = integer_metric_names(discrete_metric_specs(env));
+  if (!env.test_policy) {  // the states steps_to_goal indexes
+    record.arrays.push_back({"start_states",
+                             {static_cast<std::int64_t>(env.start_states.size())},
+                             std::vector<double>(env.start_states.begin(), env.start_states.end()),
+                             ElementType::kInt32});
+  }
 
   kernels::RandomStream sample_stream = stream_for(job.seed, run, Purpose::samples);
   const kernels::SampleBatch raw = collect_samples(env, protocol, sample_stream);

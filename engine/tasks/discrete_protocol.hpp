@@ -41,6 +41,7 @@ struct Transition {
 struct DiscreteEnvironment {
   std::int32_t num_states = 0;
   std::int32_t num_actions = 0;
+  std::vector<std::string> action_names;  // of codes 0 .. num_actions - 1 (the results file's)
   kernels::RowMatrixXd state_vectors;     // num_states x d, for Euclidean distances
   std::vector<std::int32_t> goal_states;  // sorted; none for a task without goals
   // The random walks' series start here, and the goal test's roll-outs (the

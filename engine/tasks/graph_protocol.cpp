@@ -10,10 +10,21 @@
 namespace ggk::engine {
 
 const std::vector<MetricSpec>& graph_metric_specs() {
-  static const std::vector<MetricSpec> specs = {
-      {"lspi_iterations"}, {"graph_nodes"},      {"edges"},
-      {"median_degree"},   {"geodesic_stretch"}, {"kernel_gap"}};
+  static const std::vector<MetricSpec> specs = {{"lspi_iterations", MetricKind::kMean, false, true},
+                                                {"graph_nodes", MetricKind::kMean, false, true},
+                                                {"edges", MetricKind::kMean, false, true},
+                                                {"median_degree"},
+                                                {"geodesic_stretch"},
+                                                {"kernel_gap"}};
   return specs;
+}
+
+std::vector<std::string> integer_metric_names(std::span<const MetricSpec> specs) {
+  std::vector<std::string> names;
+  for (const MetricSpec& spec : specs) {
+    if (spec.integer) names.push_back(spec.name);
+  }
+  return names;
 }
 
 MetricKind declared_kind(std::span<const MetricSpec> specs, std::string_view metric) {

@@ -35,13 +35,17 @@ struct MetricSpec {
   std::string name;
   MetricKind kind = MetricKind::kMean;
   bool tested = false;
+  bool integer = false;  // always a whole number: stored as an int64 column and attribute
 };
 
 // The metrics every graph task's fits carry after its own, in this order:
 // lspi_iterations, graph_nodes and the diagnostics of kernels/graph_diagnostics.hpp
 // (edges, median_degree, geodesic_stretch per run, kernel_gap per fit;
-// engine/tasks/README.md). All means.
+// engine/tasks/README.md). All means; lspi_iterations, graph_nodes and edges integers.
 const std::vector<MetricSpec>& graph_metric_specs();
+
+// The names of the metrics `specs` declare integer (RunRecord::integer_metrics).
+std::vector<std::string> integer_metric_names(std::span<const MetricSpec> specs);
 
 // The kind `specs` declare for `metric`; a mean for a metric they do not declare.
 MetricKind declared_kind(std::span<const MetricSpec> specs, std::string_view metric);

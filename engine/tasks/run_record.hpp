@@ -65,9 +65,13 @@ struct RunRecord {
   std::int32_t configuration = 0;  // its run configuration's index in a study (study.hpp)
   SampleRecord samples;
   kernels::CsrGraph graph;
-  kernels::RowMatrixXd node_states;  // graph.num_nodes rows
-  std::vector<NamedArray> arrays;    // task-specific run data
-  std::vector<FitRecord> fits;       // one per sweep point, in sweep order
+  kernels::RowMatrixXd node_states;       // graph.num_nodes rows
+  std::vector<NamedArray> arrays;         // task-specific run data
+  std::vector<std::string> action_names;  // of action codes 0, 1, ... (dataset action_names)
+  // Metrics that are always whole numbers (lspi_iterations, ...): int64 columns
+  // of fit_metrics and int64 attributes of the fit groups.
+  std::vector<std::string> integer_metrics;
+  std::vector<FitRecord> fits;  // one per sweep point, in sweep order
   // The fits are those a stored complete run lacks (WorkUnit::points): the
   // store extends that run with them (store/run_extension.hpp).
   bool extension = false;

@@ -5,7 +5,7 @@ share. python/README.md says how to install it and how to use it."""
 from .actions import ACTION_NAMES, action_names
 from .figures import (FORMATS, add_format_argument, axes_of, axis_values, curve, error_bars,
                       facet_title, facets, legend_below, save, swept_axes)
-from .fits import Fit
+from .fits import Fit, labelled
 from .intervals import (INDICATORS, is_indicator, is_rate, mean_ci, metric_ci,
                         newcombe_paired_ci, paired_t_ci, wilson_ci)
 from .paired import paired

@@ -56,80 +56,95 @@ def _start_states(f, run, task, state_count, starts):
     return states if len(states) == starts else None
 
 
+def dims_of(dataset, fallback):
+    """A dataset's axis names: its `dims` attribute (engine/store/dataset_schema.cpp),
+    or `fallback` for a file written before datasets named their axes."""
+    dims = dataset.attrs.get("dims")
+    return tuple(text(dims).split(",")) if dims is not None else tuple(fallback)
+
+
+def labelled(dataset, fallback_dims=None, name=None, coords=None, description=None):
+    """An h5py dataset as an xarray DataArray: dims from its `dims` attribute
+    (`fallback_dims`, else dim_0, dim_1, ..., for older files), its `units` and
+    `description` as attrs, and those of `coords` whose axis it has."""
+    data = dataset[()]
+    fallback = fallback_dims or tuple(f"dim_{i}" for i in range(data.ndim))
+    dims = dims_of(dataset, fallback)
+    attrs = {key: text(dataset.attrs[key]) for key in ("units", "description")
+             if key in dataset.attrs}
+    if description and "description" not in attrs:
+        attrs["description"] = description
+    coords = {axis: values for axis, values in (coords or {}).items()
+              if axis in dims and len(values) == data.shape[dims.index(axis)]}
+    return xr.DataArray(data, dims=dims, coords=coords,
+                        name=name or dataset.name.rsplit("/", 1)[-1], attrs=attrs)
+
+
 def read_fit(f, group_path, task):
-    """The labelled arrays of the fit group at `group_path` of an open file."""
+    """The labelled arrays of the fit group at `group_path` of an open file:
+    axes as the file names them (`dims`), with the run's action names, the
+    centres' node ids and the goal test's start states as coordinates."""
     fit = f[group_path]
     run = fit.parent.parent.parent
     arrays = {}
     centres = fit["centers"][:]
-    if "weights" in fit and len(centres):
-        weights = fit["weights"][:]
-        m = len(weights) // len(centres)
-        names = action_names(task, m)
-        # Column a*p + j of w is action a, centre j (results/README.md).
-        arrays["weights"] = xr.DataArray(
-            weights.reshape(m, len(centres)), dims=("action", "centre"),
-            coords={"action": list(names), "centre": centres},
-            name="weights", attrs={"description": "w: Q(s, a) = sum_j w[a, j] phi_j(s, a)"})
-    names = action_names(task)
-    state_dim = "reading" if task == "khepera" else "state"
-    if "policy" in fit:
-        policy = fit["policy"][:]
-        arrays["policy"] = xr.DataArray(
-            policy, dims=(state_dim,), coords={state_dim: np.arange(len(policy))}, name="policy",
-            attrs={"description": "greedy action code per " + state_dim,
-                   "action_names": list(names)})
-    if "unit_policy" in fit:
-        unit_policy = fit["unit_policy"][:]
-        arrays["unit_policy"] = xr.DataArray(
-            unit_policy, dims=("unit",), coords={"unit": np.arange(len(unit_policy))},
-            name="unit_policy", attrs={"description": "greedy action code per SOM unit",
-                                       "action_names": list(names)})
-    if "state_values" in fit:
-        values = fit["state_values"][:]
-        arrays["state_values"] = xr.DataArray(
-            values, dims=("state",), coords={"state": np.arange(len(values))},
-            name="state_values", attrs={"description": "V(s) = max_a Q(s, a)"})
-    if "steps_to_goal" in fit:
-        steps = fit["steps_to_goal"][:]
+    names = (tuple(text(n) for n in run["action_names"][:]) if "action_names" in run
+             else action_names(task))
+    if "start_states" in run:
+        starts = run["start_states"][:]
+    elif "steps_to_goal" in fit:
         state_count = len(fit["policy"]) if "policy" in fit else 0
-        starts = _start_states(f, run, task, state_count, len(steps))
-        coords = {"start": starts} if starts is not None else {"start": np.arange(len(steps))}
-        arrays["steps_to_goal"] = xr.DataArray(
-            steps, dims=("start",), coords=coords, name="steps_to_goal",
-            attrs={"description": "greedy steps to a goal from each non-goal start state "
-                   "(the coordinate: its state id), -1 = failed"
-                   if starts is not None else "greedy steps to a goal per start, -1 = failed"})
+        starts = _start_states(f, run, task, state_count, len(fit["steps_to_goal"]))
+    else:
+        starts = None
+    coords = {"action": list(names), "centre": centres}
+    if starts is not None:
+        coords["start"] = starts
+    state_dim = "state"
+    for name in ("policy", "unit_policy", "state_values"):
+        if name in fit:
+            array = labelled(fit[name], ("node",) if name == "unit_policy" else (state_dim,))
+            axis = array.dims[0]
+            array = array.assign_coords({axis: np.arange(array.sizes[axis])})
+            if name != "state_values":
+                array.attrs["action_names"] = list(names)
+            arrays[name] = array
+    if "weights" in fit and len(centres):
+        stored = labelled(fit["weights"], ("coefficient",))
+        m = stored.size // len(centres)
+        # Coefficient a*p + j of w is action a, centre j (dataset_schema.cpp).
+        arrays["weights"] = xr.DataArray(
+            stored.values.reshape(m, len(centres)), dims=("action", "centre"),
+            coords={"action": list(action_names(task, m)) if len(names) != m else list(names),
+                    "centre": centres},
+            name="weights", attrs={"description": "w: Q(s, a) = sum_j w[a, j] phi_j(s, a)"})
+    if "steps_to_goal" in fit:
+        arrays["steps_to_goal"] = labelled(
+            fit["steps_to_goal"], ("start",), coords=coords,
+            description="greedy steps to a goal per start, -1 = failed")
     if "evaluation/returns" in fit:
-        returns = fit["evaluation/returns"][:]
-        arrays["returns"] = xr.DataArray(
-            returns, dims=("episode",), coords={"episode": np.arange(len(returns))},
-            name="returns", attrs={"description": "return of each evaluation episode"})
+        arrays["returns"] = labelled(fit["evaluation/returns"], ("episode",), name="returns")
+        arrays["returns"] = arrays["returns"].assign_coords(
+            episode=np.arange(arrays["returns"].sizes["episode"]))
     if "evaluation" in fit:
         for name in fit["evaluation"]:
             if name.startswith("trajectory_"):
-                poses = fit["evaluation"][name][:]
-                arrays["evaluation_" + name] = xr.DataArray(
-                    poses, dims=("step", "pose"), coords={"pose": ["x", "y", "heading"]},
-                    name=name, attrs={"description": "pose of each step of an evaluation episode "
-                                      "(x, y in cm, heading in rad)"})
+                poses = labelled(fit["evaluation"][name], ("step", "pose"))
+                arrays["evaluation_" + name] = poses.assign_coords(
+                    {poses.dims[1]: ["x", "y", "heading"]})
     for name in fit:
         if name.startswith("trajectory_"):
-            trajectory = fit[name][:]
-            arrays[name] = xr.DataArray(trajectory, dims=("step",), name=name,
-                                        attrs={"description": "states of the greedy walk"})
+            arrays[name] = labelled(fit[name], ("step",),
+                                    description="states of the greedy walk")
     if "history" in fit:
         history = fit["history"]
-        variables = {}
-        for name in history:
-            data = history[name][:]
-            dims = ("iteration",) if data.ndim == 1 else ("iteration", "feature")
-            variables[name] = xr.DataArray(data, dims=dims)
+        variables = {name: labelled(history[name], ("iteration", "coefficient")[
+            :history[name].ndim]) for name in history}
         if variables:
             arrays["history"] = xr.Dataset(variables).assign_coords(
                 iteration=np.arange(1, next(iter(variables.values())).sizes["iteration"] + 1))
-    arrays["centers"] = xr.DataArray(centres, dims=("centre",), name="centers",
-                                     attrs={"description": "graph nodes used as kernel centres"})
+    arrays["centers"] = labelled(fit["centers"], ("centre",),
+                                 description="graph nodes used as kernel centres")
     return arrays
 
 

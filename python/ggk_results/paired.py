@@ -8,7 +8,7 @@ import pandas as pd
 from .intervals import CONFIDENCE, is_indicator, newcombe_paired_ci, paired_t_ci
 
 # The columns that pair two rows besides `by`: the run and, in a study with
-# run-level axes, its configuration.
+# run-level axes, its configuration (unless the compared axis is run-level).
 PAIRING = ("run", "configuration")
 
 
@@ -38,6 +38,10 @@ def paired(frame, metric, compare="basis", a="ggk", b="ogk", by=("kernels",),
         if column not in frame.columns:
             raise KeyError(f"paired: no column {column!r} (columns: {', '.join(frame.columns)})")
     pairing = [c for c in PAIRING if c in frame.columns]
+    if "configuration" in pairing and frame.groupby("configuration")[compare].nunique().max() <= 1:
+        # A run-level study axis compared: its values are configurations of
+        # their own, whose run r shares its seeds; pair by run alone.
+        pairing.remove("configuration")
     chosen = frame[frame[compare].isin([a, b])]
     sides = chosen[compare].unique().tolist()
     for side in (a, b):

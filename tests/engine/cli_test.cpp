@@ -253,10 +253,10 @@ TEST_F(CliTest, RunValidateAndInfo) {
   EXPECT_EQ(before.st_mtim.tv_nsec, after.st_mtim.tv_nsec);
 
   // --resume of a complete file computes nothing; --overwrite redoes it.
-  const Outcome resumed = ggk({"run", job.string(), "--resume", "-q"});
+  const Outcome resumed = ggk({"run", job.string(), "--resume"});
   EXPECT_EQ(resumed.status, 0) << resumed.err;
   EXPECT_TRUE(contains(resumed.err, "0 runs computed, 2 already complete"));
-  const Outcome overwritten = ggk({"run", job.string(), "--overwrite", "-q"});
+  const Outcome overwritten = ggk({"run", job.string(), "--overwrite"});
   EXPECT_EQ(overwritten.status, 0) << overwritten.err;
   EXPECT_TRUE(contains(overwritten.err, "2 runs computed, 0 already complete"));
 
@@ -432,7 +432,7 @@ TEST_F(CliTest, SweepKilledMidwayIsFinishedByResume) {
   }
   RecordProperty("complete_at_kill", complete_at_kill);
 
-  const Outcome resumed = ggk({"run", job_path.string(), "--resume", "-j", "2", "-q"});
+  const Outcome resumed = ggk({"run", job_path.string(), "--resume", "-j", "2"});
   ASSERT_EQ(resumed.status, 0) << resumed.err;
   EXPECT_TRUE(contains(resumed.err, std::to_string(job.runs - complete_at_kill) +
                                         " runs computed, " + std::to_string(complete_at_kill) +

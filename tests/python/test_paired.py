@@ -88,3 +88,70 @@ class Paired(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class InfoPaired(support.Scratch):
+    """`ggk info --paired basis=ggk,ogk --csv` prints what paired() gives."""
+
+    def test_ggk_info_paired_equals_paired(self):
+        import io
+        from ggk_results import open_results
+        job = support.maze_job(self.dir / "job.toml", runs=4, kernels=(4, 8),
+                               solvers=("brm", "lstdq"))
+        made = support.run_ggk("run", job, "-q", "-j", "1", "-o", self.dir / "r.h5")
+        self.assertEqual(made.returncode, 0, made.stderr)
+        self.assertEqual(made.stdout + made.stderr, "", "-q prints nothing but errors")
+        shown = support.run_ggk("info", self.dir / "r.h5", "--paired", "basis=ggk,ogk", "--csv",
+                                "--columns", "success_rate,mean_steps_to_goal,lspi_iterations")
+        self.assertEqual(shown.returncode, 0, shown.stderr)
+        table = pd.read_csv(io.StringIO(shown.stdout))
+        self.assertEqual([c for c in table.columns if not c.startswith(
+            ("success_rate", "mean_steps_to_goal", "lspi_iterations"))],
+            ["kernels", "sigma", "solver", "lambda"])
+        df = open_results(self.dir / "r.h5").summary()
+        by = ["kernels", "sigma", "solver", "lambda"]
+        for metric in ("success_rate", "mean_steps_to_goal", "lspi_iterations"):
+            expected = paired(df, metric, by=by).sort_values(by).reset_index(drop=True)
+            got = table.sort_values(by).reset_index(drop=True)
+            self.assertEqual(len(got), 4)
+            for column, name in (("a", "_a"), ("b", "_b"), ("difference", "_difference"),
+                                 ("low", "_ci_low"), ("high", "_ci_high"), ("pairs", "_pairs")):
+                np.testing.assert_allclose(got[metric + name].to_numpy(dtype=float),
+                                           expected[column].to_numpy(dtype=float),
+                                           rtol=1e-8, atol=1e-12, equal_nan=True,  # scipy t: 4e-10 off
+                                           err_msg=f"{metric}{name}")
+        # -q: nothing; an unknown column or axis value: exit 2 naming it.
+        quiet = support.run_ggk("info", self.dir / "r.h5", "-q")
+        self.assertEqual((quiet.returncode, quiet.stdout, quiet.stderr), (0, "", ""))
+        bad = support.run_ggk("info", self.dir / "r.h5", "--columns", "success_rate,nope")
+        self.assertEqual(bad.returncode, 2)
+        self.assertIn("'nope' is no metric", bad.stderr)
+        bad = support.run_ggk("info", self.dir / "r.h5", "--paired", "basis=ggk,pvf")
+        self.assertEqual(bad.returncode, 2)
+        self.assertIn("no value 'pvf'", bad.stderr)
+        bad = support.run_ggk("info", self.dir / "r.h5", "--paired", "basis")
+        self.assertEqual(bad.returncode, 2)
+        self.assertIn("AXIS=A,B", bad.stderr)
+
+    def test_a_run_level_study_axis_is_paired_by_run(self):
+        # Its two values are two configurations (run r of each shares the seeds):
+        # pairs by run, in ggk info and paired() alike.
+        import io
+        from ggk_results import open_results
+        job = support.maze_job(self.dir / "job.toml", runs=3, kernels=(4,))
+        made = support.run_ggk("run", job, "-q", "-j", "1", "--sweep", "maze.slip=0.0,0.1",
+                               "-o", self.dir / "s.h5")
+        self.assertEqual(made.returncode, 0, made.stderr)
+        shown = support.run_ggk("info", self.dir / "s.h5", "--paired", "maze.slip=0.0,0.1",
+                                "--csv", "--columns", "success_rate")
+        self.assertEqual(shown.returncode, 0, shown.stderr)
+        got = pd.read_csv(io.StringIO(shown.stdout)).sort_values("basis").reset_index(drop=True)
+        df = open_results(self.dir / "s.h5").summary()
+        expected = paired(df, "success_rate", compare="maze.slip", a=0.0, b=0.1,
+                          by=["basis", "kernels"]).sort_values("basis").reset_index(drop=True)
+        self.assertEqual(expected.pairs.tolist(), [3, 3])
+        for column, name in (("difference", "_difference"), ("low", "_ci_low"),
+                             ("high", "_ci_high"), ("pairs", "_pairs")):
+            np.testing.assert_allclose(got["success_rate" + name].to_numpy(dtype=float),
+                                       expected[column].to_numpy(dtype=float), rtol=1e-8,
+                                       atol=1e-12, equal_nan=True, err_msg=name)

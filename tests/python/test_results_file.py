@@ -52,6 +52,39 @@ class CompleteFile(unittest.TestCase):
             table = f["/maze/summary"][:]
         np.testing.assert_array_equal(df.success_rate.to_numpy(), table["success_rate"])
 
+    def test_every_dataset_names_its_axes_and_xarray_sees_them(self):
+        # The file's own dims/units/description (engine/store/dataset_schema.cpp).
+        import xarray as xr
+        seen = []
+        with h5py.File(self.path, "r") as f:
+            def check(name, obj):
+                if isinstance(obj, h5py.Dataset):
+                    array = ggk_results.labelled(obj)
+                    self.assertIsInstance(array, xr.DataArray)
+                    self.assertEqual(len(array.dims), obj.ndim, name)
+                    self.assertFalse(any(d.startswith("dim_") for d in array.dims), name)
+                    self.assertIn("description", array.attrs, name)
+                    self.assertIn("units", array.attrs, name)
+                    seen.append(name)
+            f["maze/run_000"].visititems(check)
+            samples = xr.Dataset({name: ggk_results.labelled(f["maze/run_000/samples"][name])
+                                  for name in f["maze/run_000/samples"]})
+            self.assertEqual(samples.actions.dims, ("sample",))
+            self.assertEqual(samples.observations.dims, ("sample", "observation_dim"))
+            self.assertEqual(f["maze/run_000/action_names"].asstr()[:].tolist(),
+                             ["up", "down", "left", "right"])
+            starts = f["maze/run_000/start_states"][:]
+            self.assertEqual(f["maze/summary"].dtype["lspi_iterations"], np.int64)
+            self.assertEqual(f["maze/summary"].dtype["success_rate"], np.float64)
+        self.assertIn("fit_metrics", seen)
+        one = fit(self.path, run=0, basis="ggk", kernels=8, solver="brm")
+        self.assertEqual(one.steps_to_goal.dims, ("start",))
+        np.testing.assert_array_equal(one.steps_to_goal.start.values, starts)
+        self.assertEqual(one.policy.dims, ("state",))
+        self.assertEqual(one.weights.dims, ("action", "centre"))
+        self.assertEqual(one.history.weight_change.dims, ("iteration",))
+        self.assertIsInstance(one.point["lspi_iterations"], int)
+
     def test_dataset_has_named_dims_and_coordinates(self):
         results = open_results(self.path)
         ds = results.dataset()
@@ -121,8 +154,8 @@ class ArmAndKheperaFits(Scratch):
                        self.dir / "khepera.h5")
         self.assertEqual(made.returncode, 0, made.stderr)
         khepera = fit(self.dir / "khepera.h5", run=1, basis="ggk", kernels=10, solver="brm")
-        self.assertEqual(khepera.policy.dims, ("reading",))
-        self.assertEqual(khepera.unit_policy.dims, ("unit",))
+        self.assertEqual(khepera.policy.dims, ("state",))  # a Khepera state: a reading
+        self.assertEqual(khepera.unit_policy.dims, ("node",))  # a SOM unit
         self.assertEqual(khepera.evaluation_trajectory_0.pose.values.tolist(),
                          ["x", "y", "heading"])
         self.assertAlmostEqual(float(khepera.returns.mean()), khepera.point["mean_return"])

@@ -14,6 +14,9 @@ DiscreteEnvironment arm_environment(const sims::arm::Arm& arm) {
   DiscreteEnvironment env;
   env.num_states = arm.num_states();
   env.num_actions = arm.num_actions();
+  for (std::int32_t a = 0; a < env.num_actions; ++a) {
+    env.action_names.emplace_back(sims::arm::action_name(a));
+  }
   env.state_vectors = arm.state_vectors();
   env.goal_states = arm.goal_states();
   for (std::int32_t s = 0; s < arm.num_states(); ++s) {

@@ -15,6 +15,7 @@ DiscreteEnvironment chain_environment(const chain::Chain& chain, const OptimalAc
   DiscreteEnvironment env;
   env.num_states = chain.num_states();
   env.num_actions = chain::kNumActions;
+  env.action_names = {"left", "right"};             // chain::kLeft, chain::kRight
   env.state_vectors.resize(chain.num_states(), 1);  // positions 1 .. n, the paper's numbering
   for (std::int32_t s = 0; s < chain.num_states(); ++s) env.state_vectors(s, 0) = s + 1.0;
   for (std::int32_t s = 0; s < chain.num_states(); ++s) env.start_states.push_back(s);

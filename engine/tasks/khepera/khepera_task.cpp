@@ -260,6 +260,10 @@ RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::
   const khepera::Khepera robot(config.simulator);
   RunRecord record;
   record.run = run;
+  for (std::int32_t a = 0; a < khepera::kNumActions; ++a) {
+    record.action_names.emplace_back(khepera::action_name(a));
+  }
+  record.integer_metrics = integer_metric_names(khepera_metric_specs());
 
   kernels::RandomStream sample_stream = stream_for(job.seed, run, Purpose::samples);
   const Walks walks = random_walks(robot, sample_stream);

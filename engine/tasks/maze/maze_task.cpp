@@ -8,6 +8,9 @@ DiscreteEnvironment maze_environment(const sims::maze::Maze& maze, double slip) 
   DiscreteEnvironment env;
   env.num_states = maze.num_states();
   env.num_actions = maze.num_actions();
+  for (std::int32_t a = 0; a < env.num_actions; ++a) {
+    env.action_names.emplace_back(sims::maze::action_name(a));
+  }
   env.state_vectors = maze.state_vectors();
   env.goal_states = maze.goal_states();
   for (std::int32_t s = 0; s < maze.num_states(); ++s) {

@@ -12,6 +12,9 @@
 #                  recorded in the results, and --resume compares the overridden job
 #   old_layout     a results file of an older layout (no 'layout' attribute) is
 #                  read by info and verify, refused by --resume and merge (exit 2)
+#   quiet          -q on every command (run, validate, info, verify, diff, merge)
+#                  prints nothing, on either stream, but errors; an error still
+#                  prints (exit 2, naming it)
 #   relative_paths validate and run resolve a job's paths alike from any working
 #                  directory: files it names from its folder, the output from the
 #                  working directory
@@ -88,6 +91,30 @@ output_name)
   s=$(status_of "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.hdf5")
   [ "$s" = 0 ] || fail "-o r.hdf5: $(cat "$scratch/err")"
   expect_error 2 "is not a results file name" "$GGK" merge "$scratch/m.csv" "$scratch/r.hdf5"
+  ;;
+quiet)
+  write_job "$scratch/job.toml"
+  silent() {  # command...: exit 0, nothing on stdout or stderr
+    local s
+    s=$(status_of "$@")
+    [ "$s" = 0 ] || fail "$*: status $s: $(cat "$scratch/err")"
+    [ ! -s "$scratch/out" ] && [ ! -s "$scratch/err" ] ||
+      fail "$*: printed: $(cat "$scratch/out" "$scratch/err")"
+  }
+  silent "$GGK" run "$scratch/job.toml" -q -j 1 -o "$scratch/r.h5"
+  silent "$GGK" run "$scratch/job.toml" -q -j 1 -o "$scratch/r.h5" --resume
+  silent "$GGK" run "$scratch/job.toml" -q -j 1 -o "$scratch/a.h5" --runs 0:1
+  silent "$GGK" run "$scratch/job.toml" -q -j 1 -o "$scratch/b.h5" --runs 1:2
+  silent "$GGK" validate "$scratch/job.toml" -q -o "$scratch/v.h5"
+  silent "$GGK" info "$scratch/r.h5" -q
+  silent "$GGK" info "$scratch/r.h5" -q --csv --paired basis=ggk,ogk
+  silent "$GGK" verify "$scratch/r.h5" -q
+  silent "$GGK" merge "$scratch/m.h5" "$scratch/a.h5" "$scratch/b.h5" -q
+  silent "$GGK" diff "$scratch/r.h5" "$scratch/m.h5" -q
+  # Without -q they print; with it an error still does.
+  [ -n "$("$GGK" verify "$scratch/r.h5")" ] || fail "verify without -q printed nothing"
+  expect_error 2 "no such file" "$GGK" info -q "$scratch/none.h5"
+  expect_error 2 "AXIS=A,B" "$GGK" info -q "$scratch/r.h5" --paired basis
   ;;
 info_csv)
   write_job "$scratch/job.toml"

@@ -117,7 +117,7 @@ second_writer)
     [ "$sa$sb" = 02 ] || [ "$sa$sb" = 20 ] || fail "race: statuses $sa and $sb"
     "$GGK" verify "$out" >/dev/null || fail "race: damaged file"
     job_text=$([ "$sa" = 0 ] && echo "$scratch/job.toml" || echo "$scratch/other.toml")
-    "$GGK" run "$job_text" -q --resume -o "$out" 2>"$scratch/err" || true
+    "$GGK" run "$job_text" --resume -o "$out" 2>"$scratch/err" || true
     grep -q "0 runs computed" "$scratch/err" || fail "race: the winner's job is not the file's"
   done
   # A stale lock (a dead ggk on this host) is taken over; another host's is named.
@@ -152,7 +152,7 @@ overwrite)
   done
   [ -e "$out.part" ] || fail "SIGKILL should leave the .part file"
   # The next ggk on the output clears the dead one's .part file.
-  "$GGK" run "$scratch/old.toml" -q --resume -o "$out" 2>"$scratch/err" || fail "resume after kill"
+  "$GGK" run "$scratch/old.toml" --resume -o "$out" 2>"$scratch/err" || fail "resume after kill"
   [ ! -e "$out.part" ] || fail "the dead ggk's .part file was not cleared"
   grep -q "0 runs computed, 2 already complete" "$scratch/err" || fail "$(cat "$scratch/err")"
   # A completed --overwrite replaces them.
@@ -279,7 +279,7 @@ EOF
   s=0; "$GGK" verify "$scratch/x.h5" >"$scratch/out" || s=$?
   [ "$s" = 1 ] && grep -q "/maze/run_001/samples/observations" "$scratch/out" ||
     fail "damage not found (status $s): $(cat "$scratch/out")"
-  "$GGK" run "$scratch/job.toml" -q --resume -o "$scratch/x.h5" 2>"$scratch/err"
+  "$GGK" run "$scratch/job.toml" --resume -o "$scratch/x.h5" 2>"$scratch/err"
   grep -q "run 1 of .* is damaged" "$scratch/err" || fail "resume did not say: $(cat "$scratch/err")"
   grep -q "1 runs computed, 2 already complete" "$scratch/err" || fail "$(cat "$scratch/err")"
   "$GGK" verify "$scratch/x.h5" >/dev/null || fail "still damaged after resume"

@@ -41,7 +41,7 @@ ranks)
   reference "$jobs_dir/ci.toml" "$scratch/single.h5"
   for n in 1 2 3 4; do
     # shellcheck disable=SC2046
-    "${launcher[@]}" $(np $n) "$GGK" run "$jobs_dir/ci.toml" -j 1 -q -o "$scratch/np$n.h5" \
+    "${launcher[@]}" $(np $n) "$GGK" run "$jobs_dir/ci.toml" -j 1 -o "$scratch/np$n.h5" \
       2>"$scratch/np$n.log" || { cat "$scratch/np$n.log"; fail "mpiexec -n $n exited $?"; }
     # Output from rank 0 only: one final line.
     [ "$(grep -c 'runs computed' "$scratch/np$n.log")" = 1 ] || fail "-n $n: not one final line"

@@ -33,9 +33,16 @@ TEST_F(JobRunnerTest, ARunsDigestCoversNamesAttributesShapesAndValues) {
   const std::vector<TableColumn> columns = file.read_table_columns(run + "/fit_metrics");
   ASSERT_EQ(columns.back().name, "fit_seconds");
   for (TableRow& row : rows) row.back() = 99.0;
+  std::vector<std::pair<std::string, std::string>> attributes;  // dims, units, ...
+  for (const std::string& name : file.attribute_names(run + "/fit_metrics")) {
+    attributes.emplace_back(name, file.read_string_attribute(run + "/fit_metrics", name));
+  }
   file.remove(run + "/fit_metrics");
   file.create_table(run + "/fit_metrics", columns);
   file.append_rows(run + "/fit_metrics", rows);
+  for (const auto& [name, text] : attributes) {
+    file.write_string_attribute(run + "/fit_metrics", name, text);
+  }
   EXPECT_EQ(run_digest(file, run), stored);
 
   // Covered: an attribute's value, a name, a dataset's shape.
@@ -51,22 +58,29 @@ TEST_F(JobRunnerTest, ARunsDigestCoversNamesAttributesShapesAndValues) {
   file.move(run + "/graph_", run + "/graph");
   // A dataset's values: another dataset's chunks behind the same name and shape
   // (what a damaged object header can do, every chunk checksum passing).
-  const std::vector<double> weights = file.read_vector<double>(fit + "/weights");
+  const std::string weights_path = fit + "/weights";
+  std::vector<std::pair<std::string, std::string>> described;  // dims, units, description
+  for (const std::string& name : file.attribute_names(weights_path)) {
+    described.emplace_back(name, file.read_string_attribute(weights_path, name));
+  }
+  const auto rewrite = [&](const std::vector<double>& values) {
+    file.remove(weights_path);
+    file.write_vector(weights_path, values);
+    for (const auto& [name, text] : described)
+      file.write_string_attribute(weights_path, name, text);
+  };
+  const std::vector<double> weights = file.read_vector<double>(weights_path);
   std::vector<double> other = weights;
   other.front() += 1.0;
-  file.remove(fit + "/weights");
-  file.write_vector(fit + "/weights", other);
+  rewrite(other);
   EXPECT_NE(run_digest(file, run), stored);
-  // The metadata digest of older files does not see values.
-  file.remove(fit + "/weights");
-  file.write_vector(fit + "/weights", weights);
-  const std::uint64_t metadata = run_digest(file, run, DigestScope::kMetadata);
+  rewrite(weights);
   EXPECT_EQ(run_digest(file, run), stored);
-  file.remove(fit + "/weights");
-  file.write_vector(fit + "/weights", other);
+  // The metadata digest of older files does not see values.
+  const std::uint64_t metadata = run_digest(file, run, DigestScope::kMetadata);
+  rewrite(other);
   EXPECT_EQ(run_digest(file, run, DigestScope::kMetadata), metadata);
-  file.remove(fit + "/weights");
-  file.write_vector(fit + "/weights", std::vector<double>(weights.begin(), weights.end() - 1));
+  rewrite(std::vector<double>(weights.begin(), weights.end() - 1));
   EXPECT_NE(run_digest(file, run), stored);
   EXPECT_NE(run_digest(file, run, DigestScope::kMetadata), metadata);
 }

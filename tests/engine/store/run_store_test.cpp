@@ -102,6 +102,42 @@ TEST_F(RunStoreTest, SummaryIsRewrittenWholeAndLeavesNoStaging) {
   EXPECT_FALSE(file.exists(kStagingRoot));
 }
 
+TEST_F(RunStoreTest, SummaryOfRunsWithFloatAndIntegerMetricColumnsTakesTheFirstRunsTypes) {
+  // An older ggk wrote whole-number metrics as float64, this one as int64: a
+  // resumed or merged file holding both makes one summary, exact values kept.
+  for (const bool older_first : {true, false}) {
+    const fs::path path = dir_ / (older_first ? "older_first.h5" : "newer_first.h5");
+    Hdf5File file = Hdf5File::create(path);
+    for (int run = 0; run < 2; ++run) {
+      const bool older = (run == 0) == older_first;
+      const std::string group = run_group("maze", run);
+      file.create_table(
+          group + "/fit_metrics",
+          std::vector<TableColumn>{
+              {"run", ColumnType::kInt32, 0},
+              {"lspi_iterations", older ? ColumnType::kFloat64 : ColumnType::kInt64, 0}});
+      std::vector<TableRow> rows(1, TableRow{run});
+      if (older) {
+        rows[0].emplace_back(7.0);
+      } else {
+        rows[0].emplace_back(std::int64_t{7});
+      }
+      file.append_rows(group + "/fit_metrics", rows);
+      file.write_int64_attribute(group, "complete", 1);
+    }
+    ASSERT_EQ(write_summary(file, "maze", 2), 2);
+    const auto columns = file.read_table_columns("/maze/summary");
+    EXPECT_EQ(columns[1].type, older_first ? ColumnType::kFloat64 : ColumnType::kInt64);
+    for (const TableRow& row : file.read_table("/maze/summary")) {
+      if (older_first) {
+        EXPECT_EQ(std::get<double>(row[1]), 7.0);
+      } else {
+        EXPECT_EQ(std::get<std::int64_t>(row[1]), 7);
+      }
+    }
+  }
+}
+
 TEST_F(RunStoreTest, DiscardedRunIsGoneAndNotComplete) {
   Hdf5File file = file_with_runs(2);
   discard_run(file, "maze", 1);
@@ -119,10 +155,10 @@ TEST_F(RunStoreTest, NamedArraysAreStoredAsTheirElementType) {
   record.graph.num_nodes = 0;
   record.graph.indptr = {0};
   record.arrays = {
-      {"values", {3}, {0.5, -1.0, 2.0}},  // float64 by default
-      {"indices", {2, 2}, {0, 1, 2, -3}, ElementType::kInt32},
-      {"counts", {2}, {0, 4294967296.0}, ElementType::kInt64},
-      {"flags", {3}, {1, 0, 1}, ElementType::kUInt8},
+      {"som/quantization_error", {3}, {0.5, -1.0, 2.0}},  // float64 by default
+      {"grid/state_of", {2, 2}, {0, 1, 2, -3}, ElementType::kInt32},
+      {"start_states", {2}, {0, 4294967296.0}, ElementType::kInt64},
+      {"graph/visited", {3}, {1, 0, 1}, ElementType::kUInt8},
   };
   {
     Hdf5File file = Hdf5File::create(dir_ / "typed.h5");
@@ -131,20 +167,22 @@ TEST_F(RunStoreTest, NamedArraysAreStoredAsTheirElementType) {
   }
   const Hdf5File file = Hdf5File::open_read_only(dir_ / "typed.h5");
   const std::string group = run_group("maze", 4);
-  EXPECT_EQ(file.read_vector<double>(group + "/values"), (std::vector<double>{0.5, -1.0, 2.0}));
-  EXPECT_EQ(file.read_matrix<std::int32_t>(group + "/indices").data,
+  EXPECT_EQ(file.read_vector<double>(group + "/som/quantization_error"),
+            (std::vector<double>{0.5, -1.0, 2.0}));
+  EXPECT_EQ(file.read_matrix<std::int32_t>(group + "/grid/state_of").data,
             (std::vector<std::int32_t>{0, 1, 2, -3}));
-  EXPECT_EQ(file.read_vector<std::int64_t>(group + "/counts"),
+  EXPECT_EQ(file.read_vector<std::int64_t>(group + "/start_states"),
             (std::vector<std::int64_t>{0, std::int64_t{1} << 32}));
-  EXPECT_EQ(file.read_vector<std::uint8_t>(group + "/flags"), (std::vector<std::uint8_t>{1, 0, 1}));
+  EXPECT_EQ(file.read_vector<std::uint8_t>(group + "/graph/visited"),
+            (std::vector<std::uint8_t>{1, 0, 1}));
   // Reading as another type is refused: the stored type is the declared one.
-  EXPECT_THROW(file.read_vector<double>(group + "/flags"), std::runtime_error);
+  EXPECT_THROW(file.read_vector<double>(group + "/graph/visited"), std::runtime_error);
 
   // A value that is no integer of the type is a bug of the task, not rounded.
   Hdf5File other = Hdf5File::create(dir_ / "bad.h5");
-  record.arrays = {{"flags", {2}, {1, 0.5}, ElementType::kUInt8}};
+  record.arrays = {{"graph/visited", {2}, {1, 0.5}, ElementType::kUInt8}};
   EXPECT_THROW(write_run(other, job, record), std::logic_error);
-  record.arrays = {{"flags", {1}, {256}, ElementType::kUInt8}};
+  record.arrays = {{"graph/visited", {1}, {256}, ElementType::kUInt8}};
   EXPECT_THROW(write_run(other, job, record), std::logic_error);
 }
 

@@ -1,0 +1,213 @@
+#include "engine/store/dataset_schema.hpp"
+
+#include <array>
+#include <cstddef>
+#include <stdexcept>
+#include <vector>
+
+namespace ggk::engine {
+
+namespace {
+
+// Fit datasets carry the prefix "fit:" (their path below the fit group).
+constexpr std::string_view kFitPrefix = "fit:";
+
+constexpr std::array kSchemas = {
+    // samples/ (every task)
+    DatasetSchema{"samples/observations", "sample,observation_dim", "task state units",
+                  "state vector of s (sims/<task>/README.md)"},
+    DatasetSchema{"samples/actions", "sample", "action code", "action a (action_names)"},
+    DatasetSchema{"samples/rewards", "sample", "reward", "reward r"},
+    DatasetSchema{"samples/next_observations", "sample,observation_dim", "task state units",
+                  "state vector of s'"},
+    DatasetSchema{"samples/terminals", "sample", "flag", "1 if s' ends the episode"},
+    DatasetSchema{"samples/collisions", "sample", "flag",
+                  "1 if the random step was undone (khepera)"},
+    // the run
+    DatasetSchema{"action_names", "action", "", "the name of each action code"},
+    DatasetSchema{"start_states", "start", "node id",
+                  "the states the goal test starts from, the index of steps_to_goal (maze, arm)"},
+    DatasetSchema{"graph/indptr", "node_pointer", "index",
+                  "CSR row pointer of the sample graph (node + 1 entries)"},
+    DatasetSchema{"graph/indices", "edge", "node id", "CSR column (neighbour) of each edge"},
+    DatasetSchema{"graph/weights", "edge", "task state units",
+                  "Euclidean distance between the edge's state vectors"},
+    DatasetSchema{"graph/nodes", "node,observation_dim", "task state units",
+                  "state vector of each graph node"},
+    DatasetSchema{"graph/visited", "node", "flag",
+                  "1 if a sample starts or ends there (maze, arm)"},
+    DatasetSchema{"graph/occupied", "node", "flag",
+                  "1 if a reading has the SOM unit as its BMU (khepera)"},
+    DatasetSchema{"grid/state_of", "shoulder,elbow", "node id",
+                  "arm: the state of each joint-grid cell, -1 = collision"},
+    DatasetSchema{"grid/goal", "shoulder,elbow", "flag", "arm: 1 where the cell is a goal state"},
+    DatasetSchema{"workspace/rectangles", "rectangle,corner_xy", "workspace units",
+                  "arm obstacles: min x, min y, max x, max y"},
+    DatasetSchema{"workspace/discs", "disc,disc_field", "workspace units",
+                  "arm obstacles: centre x, y, radius"},
+    DatasetSchema{"workspace/object", "disc_field", "workspace units",
+                  "arm: the object, centre x, y, radius"},
+    DatasetSchema{"workspace/pose_A", "joint_point,xy", "workspace units",
+                  "arm: base, elbow and hand of pose A"},
+    DatasetSchema{"workspace/pose_A_deg", "joint", "degrees", "arm: shoulder and elbow angle of A"},
+    DatasetSchema{"workspace/goal_poses", "goal,pose_xy", "workspace units",
+                  "arm: base, elbow and hand (x, y each) of each goal pose"},
+    DatasetSchema{"workspace/goal_poses_deg", "goal,joint", "degrees",
+                  "arm: shoulder and elbow angle of each goal pose"},
+    DatasetSchema{"som/prototypes", "node,sensor", "IR reading",
+                  "khepera: the prototype of each SOM unit"},
+    DatasetSchema{"som/grid", "node,grid_axis", "index",
+                  "khepera: (row, column) of each unit on the SOM grid"},
+    DatasetSchema{"som/quantization_error", "epoch", "IR reading",
+                  "khepera: mean distance to the BMU after each epoch"},
+    DatasetSchema{"state_units", "state", "node id",
+                  "khepera: the BMU of every reading of the walks (series k, reading t: row "
+                  "k (steps + 1) + t)"},
+    DatasetSchema{"arena/box", "box_field", "cm", "khepera: min x, min y, max x, max y, walled"},
+    DatasetSchema{"arena/segments", "segment,segment_field", "cm", "khepera: a x, a y, b x, b y"},
+    DatasetSchema{"arena/rectangles", "rectangle,corner_xy", "cm",
+                  "khepera: min x, min y, max x, max y"},
+    DatasetSchema{"arena/rotated_rectangles", "rectangle,rotated_field", "cm, degrees",
+                  "khepera: centre x, y, width, height, angle (degrees)"},
+    DatasetSchema{"arena/discs", "disc,disc_field", "cm", "khepera: centre x, y, radius"},
+    DatasetSchema{"arena/start", "pose", "cm, rad", "khepera: start x, y, heading"},
+    DatasetSchema{"robot/radius", "scalar", "cm", "khepera: the body's radius"},
+    DatasetSchema{"robot/sensors", "sensor,mount_field", "cm, degrees",
+                  "khepera: each IR sensor's mount x, y, heading"},
+    DatasetSchema{"robot/start_rays", "ray,ray_field", "cm, flag",
+                  "khepera: three rays per sensor at the start pose: from x, y, to x, y, seen"},
+    DatasetSchema{"robot/start_readings", "sensor", "IR reading",
+                  "khepera: the noiseless readings at the start pose"},
+    DatasetSchema{"optimal_actions", "state,action", "flag",
+                  "chain: 1 where the action is optimal by value iteration"},
+    DatasetSchema{"fit_metrics", "row", "", "one row per fit of this run (the summary's columns)"},
+    // a fit (fits/<basis>/<point>/)
+    DatasetSchema{"fit:centers", "centre", "node id", "the graph node of each kernel centre"},
+    DatasetSchema{"fit:weights", "coefficient", "",
+                  "w: coefficient a*p + j = action a, centre j (p = centres)"},
+    DatasetSchema{"fit:policy", "state", "action code", "greedy action per state"},
+    DatasetSchema{"fit:state_values", "state", "return", "V(s) = max_a Q(s, a)"},
+    DatasetSchema{"fit:steps_to_goal", "start", "steps",
+                  "greedy steps from each of start_states to a goal, -1 = failed"},
+    DatasetSchema{"fit:trajectory_*", "step", "node id",
+                  "the states of the greedy walk from the named start, the start first"},
+    DatasetSchema{"fit:unit_policy", "node", "action code",
+                  "khepera: greedy action at each SOM unit's prototype"},
+    DatasetSchema{"fit:evaluation/returns", "episode", "reward",
+                  "khepera: the return of each evaluation episode"},
+    DatasetSchema{"fit:evaluation/trajectory_*", "step,pose", "cm, rad",
+                  "khepera: x, y, heading of the episode's poses from the start"},
+    DatasetSchema{"fit:history/policy_changes", "iteration", "states",
+                  "states whose greedy action changed"},
+    DatasetSchema{"fit:history/weight_change", "iteration", "", "L2 norm of w_k - w_(k-1)"},
+    DatasetSchema{"fit:history/relative_residual", "iteration", "",
+                  "norm(A w - b) / norm(b) of the iteration's solve"},
+    DatasetSchema{"fit:history/rcond", "iteration", "", "reciprocal condition estimate of A"},
+    DatasetSchema{"fit:history/dense_solve", "iteration", "flag",
+                  "1 if the system was factorised densely (LAPACK)"},
+    DatasetSchema{"fit:history/weights", "iteration,coefficient", "", "w of every iteration"},
+    DatasetSchema{"fit:history/*", "iteration", "as the metric",
+                  "the task's test of every iteration's greedy policy (a metric)"},
+    DatasetSchema{"fit:A/indptr", "row_pointer", "index", "CSR row pointer of the last A"},
+    DatasetSchema{"fit:A/indices", "nonzero", "coefficient", "CSR column of each entry of A"},
+    DatasetSchema{"fit:A/data", "nonzero", "", "entries of A (BRM: its lower triangle)"},
+    DatasetSchema{"fit:b", "coefficient", "", "b of the last evaluation system"},
+};
+
+bool matches(std::string_view pattern, std::string_view path) {
+  if (!pattern.empty() && pattern.back() == '*') {
+    return path.starts_with(pattern.substr(0, pattern.size() - 1));
+  }
+  return pattern == path;
+}
+
+const DatasetSchema* find_schema(std::string_view key) {
+  for (const DatasetSchema& schema : kSchemas) {
+    if (schema.path == key) return &schema;
+  }
+  for (const DatasetSchema& schema : kSchemas) {
+    if (matches(schema.path, key)) return &schema;
+  }
+  return nullptr;
+}
+
+std::size_t rank_of(std::string_view dims) {
+  std::size_t rank = 1;
+  for (const char c : dims) rank += c == ',' ? 1 : 0;
+  return rank;
+}
+
+void describe(Hdf5File& file, const std::string& path, std::string_view dims,
+              std::string_view units, std::string_view description) {
+  file.write_string_attribute(path, "dims", dims);
+  file.write_string_attribute(path, "units", units);
+  file.write_string_attribute(path, "description", description);
+}
+
+void describe_below(Hdf5File& file, const std::string& path, const std::string& relative) {
+  if (file.object_kind(path) == Hdf5File::ObjectKind::kGroup) {
+    for (const std::string& member : file.member_names(path)) {
+      describe_below(file, path + "/" + member,
+                     relative.empty() ? member : relative + "/" + member);
+    }
+    return;
+  }
+  const DatasetSchema* schema = dataset_schema(relative);
+  if (schema == nullptr) {
+    throw std::logic_error("dataset '" + relative +
+                           "' has no entry in engine/store/dataset_schema.cpp");
+  }
+  const std::size_t rank = file.dataset_shape(path).size();
+  if (rank != rank_of(schema->dims)) {
+    throw std::logic_error("dataset '" + relative + "' has " + std::to_string(rank) +
+                           " dimensions, engine/store/dataset_schema.cpp names " +
+                           std::string(schema->dims));
+  }
+  describe(file, path, schema->dims, schema->units, schema->description);
+}
+
+}  // namespace
+
+std::span<const DatasetSchema> dataset_schemas() {
+  return kSchemas;
+}
+
+const DatasetSchema* dataset_schema(std::string_view relative) {
+  // fits/<basis>/<point>/rest -> "fit:rest"
+  if (relative.starts_with("fits/")) {
+    const std::size_t basis_end = relative.find('/', 5);
+    const std::size_t point_end =
+        basis_end == std::string_view::npos ? basis_end : relative.find('/', basis_end + 1);
+    if (point_end == std::string_view::npos) return nullptr;
+    std::string key(kFitPrefix);
+    key += relative.substr(point_end + 1);
+    return find_schema(key);
+  }
+  if (relative.starts_with(kFitPrefix)) return nullptr;
+  return find_schema(relative);
+}
+
+void describe_datasets(Hdf5File& file, const std::string& run_group) {
+  describe_below(file, run_group, "");
+}
+
+void describe_table(Hdf5File& file, const std::string& path, std::string_view description) {
+  describe(file, path, "row", "", description);
+}
+
+std::string dataset_schema_markdown() {
+  std::string text =
+      "| dataset | dims | units | description |\n"
+      "|---|---|---|---|\n";
+  for (const DatasetSchema& schema : kSchemas) {
+    std::string path(schema.path);
+    if (path.starts_with(kFitPrefix)) {
+      path = "fits/<basis>/<point>/" + path.substr(kFitPrefix.size());
+    }
+    text += "| `" + path + "` | " + std::string(schema.dims) + " | " + std::string(schema.units) +
+            " | " + std::string(schema.description) + " |\n";
+  }
+  return text;
+}
+
+}  // namespace ggk::engine
