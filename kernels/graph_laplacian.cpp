@@ -92,6 +92,7 @@ GraphLaplacian graph_laplacian(const CsrGraph& graph, std::span<const std::uint8
       const std::int32_t c = row_of[static_cast<std::size_t>(heads[k])];
       if (!diagonal_done && c > r) add_diagonal();
       const double w = affinity_of(lengths[k]);
+      if (w == 0.0) continue;  // no edge: a zero length, or a Gaussian affinity underflowed
       const double value = kind == LaplacianKind::combinatorial
                                ? -w
                                : -w / std::sqrt(du * degree[static_cast<std::size_t>(c)]);
@@ -107,13 +108,18 @@ GraphLaplacian graph_laplacian(const CsrGraph& graph, std::span<const std::uint8
     throw std::invalid_argument("graph_laplacian: the graph's arcs are not symmetric");
   }
 
-  // The null space: one unit vector per component, supported on it.
+  // The null space: one unit vector per component of the edges of positive
+  // affinity (those the matrix holds), supported on it.
   CsrGraph subgraph;
   subgraph.num_nodes = n;
   subgraph.indptr.assign(1, 0);
   for (std::int32_t r = 0; r < n; ++r) {
-    for (const std::int32_t v : graph.neighbors(laplacian.nodes[static_cast<std::size_t>(r)])) {
-      subgraph.indices.push_back(row_of[static_cast<std::size_t>(v)]);
+    const std::int32_t u = laplacian.nodes[static_cast<std::size_t>(r)];
+    const auto heads = graph.neighbors(u);
+    const auto lengths = graph.neighbor_weights(u);
+    for (std::size_t k = 0; k < heads.size(); ++k) {
+      if (affinity_of(lengths[k]) == 0.0) continue;
+      subgraph.indices.push_back(row_of[static_cast<std::size_t>(heads[k])]);
       subgraph.weights.push_back(1.0);
     }
     subgraph.indptr.push_back(static_cast<std::int64_t>(subgraph.indices.size()));

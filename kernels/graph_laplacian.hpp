@@ -9,8 +9,10 @@
 //   gaussian: W = exp(-d^2 / (2 s^2)), s the mean edge length of the graph (the
 //             papers' continuous tasks use exp(-d^2 / delta) with delta set by hand).
 // combinatorial: L = D - W; normalized: L = I - D^-1/2 W D^-1/2 (Chung), with
-// L_uu = 0 for an isolated node. Both are symmetric positive semi-definite; a graph
-// of c components has exactly c zero eigenvalues, and `null_space` holds an
+// L_uu = 0 for an isolated node; an edge of zero affinity (a zero length with
+// `distance`, an underflowed Gaussian) is no edge. Both are symmetric positive
+// semi-definite; a graph of c components (joined by edges of positive affinity)
+// has exactly c zero eigenvalues, and `null_space` holds an
 // orthonormal basis of their eigenspace: per component (numbered by its smallest
 // node) the indicator 1_C (combinatorial) or D^1/2 1_C (normalized), unit norm; an
 // isolated node's is its unit vector.

@@ -57,6 +57,19 @@ TEST(GraphLaplacian, NormalizedHasUnitDiagonalAndWeightedNullVectors) {
   EXPECT_EQ(g.null_space(3, 1), 1.0);
 }
 
+TEST(GraphLaplacian, AZeroAffinityIsNoEdge) {
+  // Nodes 0 and 1 at the same place (length 0): with distance affinities they are
+  // not joined, so the graph has two components and no 0 / 0 entry.
+  const CsrGraph graph = graph_from_edges(3, std::vector<WeightedEdge>{{0, 1, 0.0}, {1, 2, 2.0}});
+  const std::vector<std::uint8_t> all = {1, 1, 1};
+  const GraphLaplacian g =
+      graph_laplacian(graph, all, LaplacianKind::normalized, EdgeAffinity::distance);
+  EXPECT_TRUE(Eigen::MatrixXd(g.matrix).allFinite());
+  EXPECT_EQ(g.matrix.coeff(0, 0), 0.0);
+  EXPECT_EQ(g.null_space.cols(), 2);
+  EXPECT_NEAR((Eigen::MatrixXd(g.matrix) * g.null_space).norm(), 0.0, 1e-15);
+}
+
 TEST(GraphLaplacian, RefusesArcsToNodesOutsideTheSet) {
   const std::vector<std::uint8_t> is_node = {1, 1, 0, 0};
   EXPECT_THROW(
