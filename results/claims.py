@@ -260,6 +260,8 @@ def rotation_rows(study, degrees):
             "mean return, " + describe(points, 1, ""),
             verdict(points),
         ))
+    rows += pvf_rows(study, f"Khepera, {degrees}-degree rotations", "mean_return",
+                     "mean return", solvers_of(study))
     return rows
 
 
