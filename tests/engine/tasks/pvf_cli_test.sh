@@ -4,7 +4,7 @@
 #   threads   jobs/ci.toml (maze) and jobs/ci-khepera.toml with basis = ["ggk",
 #             "ogk", "pvf"]: -j 1 and -j 2 give `ggk diff`-equal files; every run
 #             stores graph/laplacian_eigenvalues (one exact 0 first), `ggk info`
-#             has "pvf" rows
+#             has "pvf" rows, `ggk verify` reads the file
 #   resume    the maze job's runs 0:2, then --resume to the whole job: the file
 #             one process writes (ggk diff); two shards merged: the same
 #   errors    a bad [pvf] value or key: exit 2 naming the key, nothing written
@@ -33,6 +33,7 @@ threads)
     "$GGK" run "$jobs_dir/$job.toml" -q -j 2 --set "$three" -o "$scratch/$job-2.h5"
     "$GGK" diff "$scratch/$job-1.h5" "$scratch/$job-2.h5" || fail "$job: -j 1 and -j 2 differ"
     "$GGK" info "$scratch/$job-1.h5" | grep -qE '^ *pvf ' || fail "$job: no pvf rows in ggk info"
+    "$GGK" verify "$scratch/$job-1.h5" >/dev/null || fail "$job: ggk verify"
     /usr/bin/python3 - "$scratch/$job-1.h5" <<'PY' || fail "$job: eigenvalues"
 import sys
 import h5py
