@@ -167,9 +167,9 @@ CsrGraph random_graph(std::int32_t n, std::int32_t extra, std::uint64_t seed) {
 }
 
 TEST(LaplacianEigensolver, MatchesTheDenseSolverOnRandomGraphs) {
-  // Six small graphs (the dense path), one above kDenseLaplacianNodes (Lanczos).
+  // Six small graphs (the dense path), two above kDenseLaplacianNodes (Lanczos).
   for (std::uint64_t seed = 1; seed <= 6; ++seed) {
-    for (const std::int32_t n : {30, 500}) {
+    for (const std::int32_t n : {30, 200, 500}) {
       if (n > kDenseLaplacianNodes && seed > 1) continue;
       const CsrGraph graph = random_graph(n, n / 2, seed);
       const std::vector<std::uint8_t> all(static_cast<std::size_t>(n), 1);
