@@ -4,7 +4,9 @@
 Each row: the claim, what the paper states, what ggk measures (per sweep point,
 GGK - OGK paired by run, with the 95 % interval of ggk_results.paired: Student's
 t of the mean difference, or Newcombe's paired score interval for a 0/1 success
-from A), and a verdict from fixed rules:
+from A), and a verdict from fixed rules (rows for the third basis, proto-value
+functions, where a file holds them: GGK - PVF and PVF - OGK by the same rules,
+read as "ahead", "partly ahead", "not ahead"):
   reproduced      GGK significantly ahead at more than half of the points and
                   significantly behind at none;
   partly          GGK significantly ahead at two points or more, and at more
@@ -126,7 +128,7 @@ def interval_text(r, scale):
             f"{scale * r.high:+.2g}")
 
 
-def describe(points, scale, unit):
+def describe(points, scale, unit, ahead_name="GGK"):
     """'GGK ahead at a of n kernel counts, behind at b; e.g. k: x vs y (d +- h)'."""
     ahead, behind = tally(points)
     best = points.loc[points.difference.idxmax()]
@@ -137,16 +139,41 @@ def describe(points, scale, unit):
         return (f"{int(r.kernels)} kernels {scale * r.a:.3g}{unit} vs {scale * r.b:.3g}{unit} "
                 f"({interval_text(r, scale)})")
 
-    text = (f"GGK significantly ahead at {ahead} of {len(points)} kernel counts, behind at "
-            f"{behind} ({runs} runs); best for GGK: {point(best)}")
+    text = (f"{ahead_name} significantly ahead at {ahead} of {len(points)} kernel counts, "
+            f"behind at {behind} ({runs} runs); best for {ahead_name}: {point(best)}")
     if worst.name != best.name:
         text += f"; worst: {point(worst)}"
     return text
 
 
-def paired_points(frame, metric, solver):
-    return ggk_results.paired(frame[frame.solver == solver], metric, compare="basis", a="ggk",
-                              b="ogk", by=["kernels"])
+def paired_points(frame, metric, solver, a="ggk", b="ogk"):
+    return ggk_results.paired(frame[frame.solver == solver], metric, compare="basis", a=a,
+                              b=b, by=["kernels"])
+
+
+# The third basis (jobs/README.md, [pvf]): GGK - PVF and PVF - OGK, paired by run,
+# where a file holds "pvf" fits; the paper makes no claim about PVFs.
+PVF_PAIRS = (("ggk", "pvf"), ("pvf", "ogk"))
+
+
+def pvf_rows(frame, task, metric, what, solvers, scale=1, unit=""):
+    rows = []
+    if not (frame.basis == "pvf").any():
+        return rows
+    for solver in solvers:
+        for a, b in PVF_PAIRS:
+            points = paired_points(frame, metric, solver, a, b)
+            rows.append((
+                f"{task}: {a.upper()} vs {b.upper()} ({solver.upper()}; ggk's third basis, "
+                "proto-value functions)",
+                "(not in the paper)",
+                f"{what}, {a.upper()} - {b.upper()}: " +
+                describe(points, scale, unit, a.upper()),
+                # The claims' rules, read as "a ahead" (no claim to reproduce).
+                {"reproduced": f"{a.upper()} ahead", "partly": f"{a.upper()} partly ahead",
+                 "not reproduced": f"{a.upper()} not ahead"}[verdict(points)],
+            ))
+    return rows
 
 
 def arm_rows(arm):
@@ -193,6 +220,7 @@ def arm_rows(arm):
         "success from all free poses, " + describe(everywhere, 100, " %"),
         verdict(everywhere),
     ))
+    rows += pvf_rows(arm, "Arm", "success_from_A", "success from A", ["brm"], 100, " %")
     return rows
 
 
@@ -217,6 +245,7 @@ def khepera_rows(khepera):
             "mean return of 150 greedy steps, " + describe(points, 1, ""),
             verdict(points),
         ))
+    rows += pvf_rows(khepera, "Khepera", "mean_return", "mean return", solvers_of(khepera))
     return rows
 
 
@@ -231,6 +260,8 @@ def rotation_rows(study, degrees):
             "mean return, " + describe(points, 1, ""),
             verdict(points),
         ))
+    rows += pvf_rows(study, f"Khepera, {degrees}-degree rotations", "mean_return",
+                     "mean return", solvers_of(study))
     return rows
 
 

@@ -3,7 +3,7 @@
   arm_state_space.png   Fig. 1(b): joint space, colliding poses, goals, start A
   arm_values.png        Fig. 2: V(s) = max_a Q(s, a) for GGK and OGK (one run, one
                         kernel count) with the greedy trajectory from A
-  arm_success.png       Fig. 3: success vs number of kernels, GGK vs OGK, 95 % CIs
+  arm_success.png       Fig. 3: success vs number of kernels, GGK vs OGK (and PVF where run), 95 % CIs
                         over runs (from A, and from every free pose)
 
     /usr/bin/python3 results/plot_arm.py results/arm-paper.h5 results/figures [--kernels P] [--run R]
@@ -31,7 +31,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
 from ggk_results import (add_format_argument, curve, error_bars, facet_title, facets,  # noqa: E402
                          legend_below, read_summary, save)
 
-STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)")}
+STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)"),
+         "pvf": ("tab:green", "^", "proto-value functions (PVF)")}
+# The curves' bases, in drawing order; a basis the file lacks draws no curve.
+CURVE_BASES = ("ggk", "ogk", "pvf")
 
 
 def grid_axes(run_group):
@@ -147,7 +150,7 @@ def fig_success(path, out, fmt):
                ("success_rate", "success from all free poses (%, t CI)"))
     for row, facet in zip(axes, rows):
         for ax, (metric, label) in zip(row, metrics):
-            for basis in ("ggk", "ogk"):
+            for basis in CURVE_BASES:
                 k, est, low, high = curve(summary, metric, basis=basis, **facet)
                 if len(k) == 0:
                     continue

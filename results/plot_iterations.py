@@ -43,7 +43,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
 from ggk_results import add_format_argument, save, task_of  # noqa: E402
 
-STYLE = {"ggk": ("tab:red", "-", "geodesic (GGK)"), "ogk": ("tab:blue", "--", "ordinary (OGK)")}
+STYLE = {"ggk": ("tab:red", "-", "geodesic (GGK)"), "ogk": ("tab:blue", "--", "ordinary (OGK)"),
+         "pvf": ("tab:green", ":", "proto-value functions (PVF)")}
+BASES = ("ggk", "ogk", "pvf")  # a basis the file lacks shows nothing
 TAIL = 10  # the last iterations whose range shows a cycle's swing
 DEFAULT_METRIC = {"arm": "success_from_A", "maze": "success_rate", "khepera": "mean_return"}
 
@@ -147,7 +149,7 @@ def main():
           f"other | metric min..max over the last {TAIL} it, mean over fits")
     for solver in solvers:
         for k in counts:
-            for basis in ("ggk", "ogk"):
+            for basis in BASES:
                 group = [f for f in fits if f["solver"] == solver and f["basis"] == basis
                          and f["kernels"] == k]
                 if not group:
@@ -177,7 +179,7 @@ def main():
     for r, solver in enumerate(solvers):
         for c, k in enumerate(counts):
             ax = axes[r][c]
-            for basis in ("ggk", "ogk"):
+            for basis in BASES:
                 group = [f for f in fits if f["solver"] == solver and f["basis"] == basis
                          and f["kernels"] == k]
                 if not group:
@@ -192,7 +194,7 @@ def main():
             if c == 0:
                 ax.set_ylabel(metric)
     handles, labels = axes[0][0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=2, frameon=False)
+    fig.legend(handles, labels, loc="lower center", ncol=len(handles), frameon=False)
     fig.suptitle(f"{task}: every iteration's greedy policy, mean over runs "
                  "(after the policy rule stops, the last policy repeats)", fontsize=10)
     fig.tight_layout(rect=(0, 0.06, 1, 0.95))
@@ -205,7 +207,7 @@ def main():
     fig, axes = plt.subplots(1, len(solvers), figsize=(5 * len(solvers), 3.6), squeeze=False)
     for c, solver in enumerate(solvers):
         ax = axes[0][c]
-        for basis in ("ggk", "ogk"):
+        for basis in BASES:
             finals, lows, highs, shown = [], [], [], []
             for k in counts:
                 group = [f for f in fits if f["solver"] == solver and f["basis"] == basis

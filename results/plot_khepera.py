@@ -6,7 +6,7 @@
   khepera_policies.png      Fig. 5: greedy action per SOM unit, GGK and OGK (one
                             run, one kernel count), laid out as in Fig. 4(b)
   khepera_return.png        Fig. 6: mean evaluation return vs number of kernels,
-                            GGK vs OGK, 95 % CIs over runs (and the fraction of
+                            GGK vs OGK (and PVF where run), 95 % CIs over runs (and the fraction of
                             evaluation episodes stopped by a collision)
   khepera_trajectories.png  the arena with the GGK and OGK evaluation trajectories
                             (one run, one kernel count, every episode)
@@ -51,7 +51,10 @@ from ggk_results import (add_format_argument, curve, error_bars, facet_title, fa
 FORMAT = "png"  # --format: the file type of every figure
 CONFIGURATION = None  # --where: the study's run configuration shown (None: a plain job's runs)
 
-STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)")}
+STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)"),
+         "pvf": ("tab:green", "^", "proto-value functions (PVF)")}
+# The curves' bases, in drawing order; a basis the file lacks draws no curve.
+CURVE_BASES = ("ggk", "ogk", "pvf")
 # Actions of sims/khepera (motion.hpp): symbol and colour as in paper Fig. 5.
 ACTIONS = [("\u2191", "forward", "tab:green"), ("\u2190", "rotate left", "tab:blue"),
            ("\u2192", "rotate right", "tab:orange"), ("\u2193", "backward", "tab:red")]
@@ -266,7 +269,7 @@ def fig_return(summary, out, test_max_steps, prefix):
         for ax, (metric, factor, label) in zip(row, panels):
             lowest = 0.0
             for s_index, solver in enumerate(solvers):
-                for basis in ("ggk", "ogk"):
+                for b_index, basis in enumerate(CURVE_BASES):
                     k, est, low, high = curve(summary, metric, basis=basis, solver=solver,
                                               **facet)
                     if len(k) == 0:
@@ -275,7 +278,8 @@ def fig_return(summary, out, test_max_steps, prefix):
                         np.isfinite(low)) else 0.0)
                     color, marker, name = STYLE[basis]
                     # Curves shifted a little sideways so that the CIs do not overprint.
-                    slot = 2 * s_index + (0 if basis == "ggk" else 1) - (len(solvers) - 0.5)
+                    slot = (len(CURVE_BASES) * s_index + b_index
+                            - (len(CURVE_BASES) * len(solvers) - 1) / 2)
                     dodge = slot * 0.005 * max(1, np.ptp(summary["kernels"]))
                     ax.errorbar(k + dodge, factor * est,
                                 yerr=factor * error_bars(est, low, high), color=color,

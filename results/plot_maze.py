@@ -1,4 +1,4 @@
-"""Success rate vs number of kernels on the maze, GGK vs OGK, 95 % CIs over runs
+"""Success rate vs number of kernels on the maze, GGK vs OGK (and PVF where run), 95 % CIs over runs
 (Student t): one panel per value of every other swept axis (solver, sigma,
 lambda), so that no axis is pooled.
 
@@ -19,7 +19,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
 from ggk_results import (add_format_argument, curve, error_bars, facet_title, facets,  # noqa: E402
                          legend_below, read_summary, save)
 
-STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)")}
+STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)"),
+         "pvf": ("tab:green", "^", "proto-value functions (PVF)")}
+# The curves' bases, in drawing order; a basis the file lacks draws no curve.
+CURVE_BASES = ("ggk", "ogk", "pvf")
 
 
 def main():
@@ -37,7 +40,7 @@ def main():
     fig, axes = plt.subplots(rows, columns, figsize=(5.5 * columns, 4 * rows), squeeze=False)
     runs = len(set(summary["run"]))
     for ax, panel in zip(axes.flat, panels):
-        for basis in ("ggk", "ogk"):
+        for basis in CURVE_BASES:
             k, est, low, high = curve(summary, "success_rate", basis=basis, **panel)
             if len(k) == 0:
                 continue

@@ -19,7 +19,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git clang-format
   clang libclang-rt-14-dev
-  libeigen3-dev libsuitesparse-dev libblas-dev liblapack-dev libopenblas0-pthread libhdf5-dev hdf5-tools libtbb-dev
+  libeigen3-dev libspectra-dev libsuitesparse-dev libblas-dev liblapack-dev libopenblas0-pthread libhdf5-dev hdf5-tools libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libcli11-dev librandom123-dev
   libopenmpi-dev openmpi-bin

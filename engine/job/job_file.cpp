@@ -40,15 +40,18 @@ constexpr IntegerRange kMaxIterationsRange{1, 1000};
 constexpr std::size_t kMaxFileNameBytes = 255;
 
 // The keys every job has; the registered tasks' names (their tables) join them.
-constexpr std::array<std::string_view, 8> kCommonTopLevelKeys = {
-    "name", "task", "runs", "seed", "sweep", "basis", "lspi", "output"};
+constexpr std::array<std::string_view, 9> kCommonTopLevelKeys = {
+    "name", "task", "runs", "seed", "sweep", "basis", "pvf", "lspi", "output"};
 constexpr std::array<std::string_view, 2> kBasisKeys = {"scheme", "truncation"};
+constexpr std::array<std::string_view, 3> kPvfKeys = {"laplacian", "edge_weights", "actions"};
 constexpr std::array<std::string_view, 8> kLspiKeys = {
     "gamma",    "max_iterations",   "fold_duplicates",     "min_rcond",
     "stopping", "weight_tolerance", "evaluate_iterations", "linear_algebra"};
 constexpr std::array<std::string_view, 3> kOutputKeys = {"file", "compression", "store_matrices"};
 
-constexpr std::array<std::string_view, 2> kKernelTypeNames = {"ggk", "ogk"};
+constexpr std::array<std::string_view, 3> kKernelTypeNames = {"ggk", "ogk", "pvf"};
+constexpr std::array<std::string_view, 2> kLaplacianNames = {"normalized", "combinatorial"};
+constexpr std::array<std::string_view, 3> kEdgeWeightNames = {"unit", "gaussian", "distance"};
 constexpr std::array<std::string_view, 2> kSolverNames = {"brm", "lstdq"};
 constexpr std::array<std::string_view, 2> kSchemeNames = {"shift", "copy"};
 constexpr std::array<std::string_view, 2> kStoppingNames = {"policy", "weights"};
@@ -65,7 +68,7 @@ bool is_valid_name(std::string_view name) {
 }
 
 KernelType kernel_type_from(const std::string& name) {
-  return name == "ggk" ? KernelType::ggk : KernelType::ogk;
+  return name == "ggk" ? KernelType::ggk : name == "ogk" ? KernelType::ogk : KernelType::pvf;
 }
 kernels::LspiSolver solver_from(const std::string& name) {
   return name == "brm" ? kernels::LspiSolver::brm : kernels::LspiSolver::lstdq;
@@ -101,6 +104,25 @@ BasisSettings parse_basis(const TomlTableReader& job) {
       table.choice("scheme", kSchemeNames, std::string(basis_scheme_name(basis.scheme))));
   basis.truncation = table.number("truncation", NumberRange::half_open(0.0, 1.0), basis.truncation);
   return basis;
+}
+
+// [pvf]: the defaults are documented in jobs/README.md.
+PvfSettings parse_pvf(const TomlTableReader& job) {
+  const TomlTableReader table = job.subtable_or_empty("pvf", kPvfKeys);
+  PvfSettings pvf;
+  pvf.laplacian =
+      table.choice("laplacian", kLaplacianNames,
+                   std::string(kernels::laplacian_kind_name(pvf.laplacian))) == "normalized"
+          ? kernels::LaplacianKind::normalized
+          : kernels::LaplacianKind::combinatorial;
+  const std::string weights = table.choice(
+      "edge_weights", kEdgeWeightNames, std::string(kernels::edge_affinity_name(pvf.edge_weights)));
+  pvf.edge_weights = weights == "unit"       ? kernels::EdgeAffinity::unit
+                     : weights == "gaussian" ? kernels::EdgeAffinity::gaussian
+                                             : kernels::EdgeAffinity::distance;
+  pvf.actions = scheme_from(
+      table.choice("actions", kSchemeNames, std::string(basis_scheme_name(pvf.actions))));
+  return pvf;
 }
 
 LspiSettings parse_lspi(const TomlTableReader& job) {
@@ -424,6 +446,12 @@ JobSpec parse_job_table(const toml::table& root, std::string source_text,
   }
 
   spec.basis = parse_basis(job);
+  // Without "pvf" and without [pvf], no pvf.* key is recorded: the job's resolved
+  // configuration stays that of a ggk without the basis (--resume, merge).
+  if (job.has("pvf") || std::find(spec.sweep.basis.begin(), spec.sweep.basis.end(),
+                                  KernelType::pvf) != spec.sweep.basis.end()) {
+    spec.pvf = parse_pvf(job);
+  }
   spec.lspi = parse_lspi(job);
   spec.output = parse_output(job, spec.name, options);
   spec.source_file = source_file;

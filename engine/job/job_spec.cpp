@@ -8,6 +8,8 @@ std::string_view kernel_type_name(KernelType type) {
       return "ggk";
     case KernelType::ogk:
       return "ogk";
+    case KernelType::pvf:
+      return "pvf";
   }
   return "unknown";
 }

@@ -17,16 +17,19 @@
 
 #include "engine/job/job_input.hpp"
 #include "engine/job/resolved_config.hpp"
+#include "kernels/graph_laplacian.hpp"
 #include "kernels/lspi.hpp"
 #include "kernels/state_action_basis.hpp"
 
 namespace ggk::engine {
 
-// Which distance the Gaussian kernels use: shortest paths on the sample graph
-// (geodesic, Eq. (8)) or Euclidean distances (ordinary, Eq. (7)).
-enum class KernelType { ggk, ogk };
+// The state basis: Gaussian kernels on shortest paths of the sample graph
+// (geodesic, Eq. (8)) or on Euclidean distances (ordinary, Eq. (7)), or the
+// proto-value functions, the smallest eigenvectors of the sample graph's
+// Laplacian (Mahadevan & Maggioni 2007; [pvf], PvfSettings).
+enum class KernelType { ggk, ogk, pvf };
 
-// Names as written in job files: "ggk"/"ogk", "brm"/"lstdq", "shift"/"copy".
+// Names as written in job files: "ggk"/"ogk"/"pvf", "brm"/"lstdq", "shift"/"copy".
 std::string_view kernel_type_name(KernelType type);
 std::string_view solver_name(kernels::LspiSolver solver);
 std::string_view basis_scheme_name(kernels::BasisScheme scheme);
@@ -44,6 +47,17 @@ struct SweepAxes {
 struct BasisSettings {
   kernels::BasisScheme scheme = kernels::BasisScheme::shift;
   double truncation = 0.0;  // kernel values below it become structural zeros
+};
+
+// [pvf]: the proto-value functions of basis "pvf" (jobs/README.md gives each
+// default's source in Mahadevan & Maggioni 2007, JMLR 8).
+struct PvfSettings {
+  kernels::LaplacianKind laplacian = kernels::LaplacianKind::normalized;
+  kernels::EdgeAffinity edge_weights = kernels::EdgeAffinity::unit;
+  // How the state basis becomes a state-action basis: "copy" (the PVF papers'
+  // phi(s, a), the state basis in action a's block) or "shift" (Eq. (9), as
+  // [basis] scheme does for the kernels).
+  kernels::BasisScheme actions = kernels::BasisScheme::copy;
 };
 
 struct LspiSettings {
@@ -71,6 +85,7 @@ struct JobSpec {
   SweepAxes sweep;
   std::any task_config;  // what the task's table parser returned
   BasisSettings basis;
+  PvfSettings pvf;
   LspiSettings lspi;
   OutputSettings output;
 

@@ -84,7 +84,9 @@ constexpr std::array kSchemas = {
     // a fit (fits/<basis>/<point>/)
     DatasetSchema{"fit:centers", "centre", "node id", "the graph node of each kernel centre"},
     DatasetSchema{"fit:weights", "coefficient", "",
-                  "w: coefficient a*p + j = action a, centre j (p = centres)"},
+                  "w: coefficient a*p + j = action a, centre j (p = centres; pvf: eigenvector j)"},
+    DatasetSchema{"fit:laplacian_eigenvalues", "eigenvector", "1 (Laplacian eigenvalue)",
+                  "basis pvf: the p smallest eigenvalues of the graph's Laplacian, ascending"},
     DatasetSchema{"fit:policy", "state", "action code", "greedy action per state"},
     DatasetSchema{"fit:state_values", "state", "return", "V(s) = max_a Q(s, a)"},
     DatasetSchema{"fit:steps_to_goal", "start", "steps",

@@ -12,6 +12,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "engine/tasks/pvf_basis.hpp"
 #include "engine/tasks/seeds.hpp"
 #include "kernels/gaussian_kernels.hpp"
 #include "kernels/graph_diagnostics.hpp"
@@ -107,6 +108,7 @@ struct RunContext {
   kernels::SampleBatch batch;  // folded when the job asks for it
   std::unique_ptr<kernels::EmpiricalTransitionModel> model;
   RunGraph graph;
+  RunEigenbases eigenbases;         // the proto-value functions, when a point asks
   std::vector<MetricSpec> metrics;  // discrete_metric_specs(*env)
   std::vector<std::int32_t> nearest;
   std::vector<double> nearest_distance;
@@ -212,16 +214,29 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
     return invalid_fit(point, ctx.run, ctx.graph, ctx.metrics,
                        "the sample graph has only " + std::to_string(ctx.graph.nodes) + " nodes");
   }
+  const bool pvf = point.basis == KernelType::pvf;
+  if (pvf && !ctx.eigenbases.of(point.kernels).ok) {
+    return invalid_fit(
+        point, ctx.run, ctx.graph, ctx.metrics,
+        "the Laplacian's eigenpairs are missing: " + ctx.eigenbases.of(point.kernels).message);
+  }
   FitMetrics metrics(ctx.metrics);
   metrics.set("lspi_iterations", 0.0);
   const DiscreteEnvironment& env = *ctx.env;
   FitRecord fit;
   fit.point = point;
-  fit.centers.assign(ctx.graph.centers.begin(), ctx.graph.centers.begin() + point.kernels);
-  set_graph_metrics(metrics, ctx.graph, fit_kernel_gap(ctx, fit.centers, point.sigma));
+  // A PVF fit has no centres and no kernel gap (NaN); it keeps its eigenvalues.
+  if (!pvf) {
+    fit.centers.assign(ctx.graph.centers.begin(), ctx.graph.centers.begin() + point.kernels);
+  } else {
+    fit.arrays.push_back(eigenvalue_array(ctx.eigenbases.of(point.kernels)));
+  }
+  set_graph_metrics(metrics, ctx.graph, pvf ? kNaN : fit_kernel_gap(ctx, fit.centers, point.sigma));
   const double truncation = ctx.job->basis.truncation;
   kernels::SparseRowMatrix state_kernels;
-  if (point.basis == KernelType::ggk) {
+  if (pvf) {
+    state_kernels = pvf_state_table(ctx.eigenbases.of(point.kernels), ctx.nearest, point.kernels);
+  } else if (point.basis == KernelType::ggk) {
     state_kernels = kernels::continuous_geodesic_gaussian_kernels(
         ctx.nearest, ctx.nearest_distance, ctx.graph.center_distances.topRows(point.kernels),
         point.sigma, truncation);
@@ -233,8 +248,9 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
     state_kernels = kernels::ordinary_gaussian_kernels(env.state_vectors, center_vectors,
                                                        point.sigma, truncation);
   }
+  const kernels::BasisScheme scheme = pvf ? ctx.job->pvf.actions : ctx.job->basis.scheme;
   const kernels::SparseRowMatrix features =
-      ctx.job->basis.scheme == kernels::BasisScheme::shift
+      scheme == kernels::BasisScheme::shift
           ? kernels::shift_basis(state_kernels, env.num_actions, *ctx.model)
           : kernels::copy_basis(state_kernels, env.num_actions);
 
@@ -363,6 +379,7 @@ RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscretePr
   kernels::RandomStream center_stream = stream_for(job.seed, run, Purpose::centers);
   ctx.graph = run_graph(record.graph, visited, center_order(env, visited, center_stream),
                         env.state_vectors, points);
+  ctx.eigenbases = run_eigenbases(record.graph, visited, job.pvf, points);
   ctx.metrics = discrete_metric_specs(env);
   kernels::nearest_visited_states(env.state_vectors, visited, ctx.nearest, ctx.nearest_distance);
   for (std::int32_t s = 0; s < env.num_states; ++s) {
@@ -410,6 +427,21 @@ RunMemoryEstimate estimate_discrete_run(const DiscreteSizes& sizes,
   estimate.add("the geodesic distances from " + count_text(max_kernels) + " centres to " +
                    count_text(states) + " states",
                max_kernels * states * 8.0);
+  double pvf_vectors = 0.0;  // every count's eigenvectors (pvf_basis.hpp), counts <= states
+  for (const std::int32_t count :
+       pvf_counts(points, static_cast<std::int32_t>(std::min<double>(states, 2147483647.0)))) {
+    pvf_vectors += count;
+  }
+  if (pvf_vectors > 0.0) {
+    // The Laplacian (an entry per arc and node), its eigenvectors over the nodes
+    // and spread over the states, the solver's Lanczos basis (at most 2 P + 20
+    // vectors) and CHOLMOD's factor (bounded by the Laplacian's fill; taken as
+    // ten times its entries).
+    estimate.add("the proto-value functions (" + count_text(pvf_vectors) + " eigenvectors of " +
+                     count_text(states) + " nodes)",
+                 states * (2.0 * pvf_vectors + 2.0 * pvf_vectors + 20.0) * 8.0 +
+                     11.0 * (2.0 * moves + states) * 12.0);
+  }
   estimate.add_per_fit("the kernel and feature tables of a fit with " + count_text(max_kernels) +
                            " kernels (" + count_text(states) + " states x " + count_text(m) +
                            " actions)",

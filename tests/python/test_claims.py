@@ -65,6 +65,27 @@ class Claims(Scratch):
         shutil.copy(self.quick / "arm.h5", self.quick / "arm-paper.h5")
         self.assertEqual(claims("--results", self.quick).returncode, 0)
 
+    def test_rows_of_the_third_basis(self):
+        # No "pvf" fits: no PVF rows.
+        self.assertNotIn("PVF", claims("--results", self.quick).stdout)
+        made = run_ggk("run", support.SOURCE / "jobs/arm-quick.toml", "-q", "--overwrite",
+                       "--set", 'sweep.basis=["ggk","ogk","pvf"]', "-o", self.quick / "arm.h5")
+        self.assertEqual(made.returncode, 0, made.stderr)
+        result = claims("--results", self.quick)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        rows = {line.split(" | ")[0]: line for line in result.stdout.splitlines()}
+        frame = ggk_results.open_results(self.quick / "arm.h5").summary()
+        for a, b in (("ggk", "pvf"), ("pvf", "ogk")):
+            row = rows[f"| Arm: {a.upper()} vs {b.upper()} (BRM; ggk's third basis, "
+                       "proto-value functions)"]
+            # paired()'s numbers, a - b by run.
+            points = ggk_results.paired(frame[frame.solver == "brm"], "success_from_A",
+                                        a=a, b=b)
+            best = points.loc[points.difference.idxmax()]
+            self.assertIn(f"best for {a.upper()}: {int(best.kernels)} kernels "
+                          f"{100 * best.a:.3g} % vs {100 * best.b:.3g} %", row)
+            self.assertRegex(row, rf"\| {a.upper()} (ahead|partly ahead|not ahead) \|$")
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -39,15 +39,21 @@ ReadingKernels::ReadingKernels(const kernels::SelfOrganizingMap& som,
                                std::span<const std::uint8_t> occupied,
                                const kernels::RowMatrixXd& center_distances,
                                const SweepPoint& point, std::span<const std::int32_t> centers,
-                               double truncation)
+                               double truncation, const kernels::RowMatrixXd* unit_eigenvectors)
     : som_(som),
       occupied_(occupied),
       center_distances_(center_distances),
       point_(point),
       centers_(centers),
-      truncation_(truncation) {}
+      truncation_(truncation),
+      unit_eigenvectors_(unit_eigenvectors) {}
 
 Eigen::VectorXd ReadingKernels::operator()(std::span<const double> reading) const {
+  if (point_.basis == KernelType::pvf) {
+    return unit_eigenvectors_->row(nearest_graph_node(reading).unit)
+        .head(point_.kernels)
+        .transpose();
+  }
   const auto p = static_cast<Eigen::Index>(centers_.size());
   Eigen::VectorXd k(p);
   if (point_.basis == KernelType::ggk) {

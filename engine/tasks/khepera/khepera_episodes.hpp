@@ -35,14 +35,18 @@ Walks random_walks(const sims::khepera::Khepera& robot, kernels::RandomStream& r
 // K(s, c_j) of a fit for one reading, with the same arithmetic as the batch
 // kernel functions (so a sample's features equal its row of the table). GGK in
 // its continuous form ED(s, n(s)) + SP(n(s), c_j), n(s) the nearest occupied
-// unit; OGK against the centre units' prototypes. Every argument must outlive it.
+// unit; OGK against the centre units' prototypes; PVF the first point.kernels
+// proto-value functions at n(s) (engine/tasks/pvf_basis.hpp), untruncated.
+// Every argument must outlive it.
 class ReadingKernels {
  public:
   // occupied: per unit, whether it is a graph node; center_distances: SP from
-  // the first centres (at least centers.size() rows) to every unit.
+  // the first centres (at least centers.size() rows) to every unit;
+  // unit_eigenvectors (basis "pvf" only): units x P, P >= point.kernels.
   ReadingKernels(const kernels::SelfOrganizingMap& som, std::span<const std::uint8_t> occupied,
                  const kernels::RowMatrixXd& center_distances, const SweepPoint& point,
-                 std::span<const std::int32_t> centers, double truncation);
+                 std::span<const std::int32_t> centers, double truncation,
+                 const kernels::RowMatrixXd* unit_eigenvectors = nullptr);
 
   Eigen::VectorXd operator()(std::span<const double> reading) const;
 
@@ -55,6 +59,7 @@ class ReadingKernels {
   const SweepPoint& point_;
   std::span<const std::int32_t> centers_;
   double truncation_;
+  const kernels::RowMatrixXd* unit_eigenvectors_;
 };
 
 // Greedy action for kernel values k under the copy scheme: argmax_a w_a . k, ties

@@ -14,6 +14,7 @@
 #include "engine/tasks/khepera/khepera_episodes.hpp"
 #include "engine/tasks/khepera/khepera_memory.hpp"
 #include "engine/tasks/khepera/khepera_table.hpp"
+#include "engine/tasks/pvf_basis.hpp"
 #include "engine/tasks/seeds.hpp"
 #include "kernels/gaussian_kernels.hpp"
 #include "kernels/graph_diagnostics.hpp"
@@ -44,6 +45,7 @@ struct RunContext {
   const kernels::SelfOrganizingMap* som = nullptr;
   kernels::BestMatches state_units;    // best-matching unit of every state
   RunGraph graph;                      // over the occupied units, centres among them
+  RunEigenbases eigenbases;            // the proto-value functions, when a point asks
   std::vector<std::uint8_t> occupied;  // per unit: the best match of some sample
   kernels::SampleBatch batch;          // the walks' samples, folded if the job asks
   std::unique_ptr<kernels::EmpiricalTransitionModel> model;  // for the shift scheme
@@ -91,6 +93,8 @@ double fit_kernel_gap(const RunContext& ctx, std::int32_t p, double sigma) {
 kernels::SparseRowMatrix state_kernel_table(const RunContext& ctx, KernelType basis, double sigma,
                                             std::int32_t p) {
   const double truncation = ctx.job->basis.truncation;
+  if (basis == KernelType::pvf)
+    return pvf_state_table(ctx.eigenbases.of(p), ctx.state_units.units, p);
   if (basis == KernelType::ggk) {
     return kernels::continuous_geodesic_gaussian_kernels(
         ctx.state_units.units, ctx.state_units.distances, ctx.graph.center_distances.topRows(p),
@@ -130,15 +134,28 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point,
     return invalid_fit(point, ctx.run, ctx.graph, khepera_metric_specs(),
                        "only " + std::to_string(ctx.graph.nodes) + " SOM units hold samples");
   }
+  const bool pvf = point.basis == KernelType::pvf;
+  if (pvf && !ctx.eigenbases.of(point.kernels).ok) {
+    return invalid_fit(
+        point, ctx.run, ctx.graph, khepera_metric_specs(),
+        "the Laplacian's eigenpairs are missing: " + ctx.eigenbases.of(point.kernels).message);
+  }
   FitMetrics metrics(khepera_metric_specs());
   FitRecord fit;
   fit.point = point;
-  fit.centers.assign(ctx.graph.centers.begin(), ctx.graph.centers.begin() + point.kernels);
-  set_graph_metrics(metrics, ctx.graph, fit_kernel_gap(ctx, point.kernels, point.sigma));
+  // A PVF fit has no centres and no kernel gap (NaN); it keeps its eigenvalues.
+  if (!pvf) {
+    fit.centers.assign(ctx.graph.centers.begin(), ctx.graph.centers.begin() + point.kernels);
+  } else {
+    fit.arrays.push_back(eigenvalue_array(ctx.eigenbases.of(point.kernels)));
+  }
+  set_graph_metrics(metrics, ctx.graph,
+                    pvf ? kNaN : fit_kernel_gap(ctx, point.kernels, point.sigma));
 
   // The copy scheme's table is never formed: fit_lspi_copy_basis reads the state
   // kernels (the same result bit for bit).
-  fit.lspi = ctx.job->basis.scheme == kernels::BasisScheme::shift
+  const kernels::BasisScheme scheme = pvf ? ctx.job->pvf.actions : ctx.job->basis.scheme;
+  fit.lspi = scheme == kernels::BasisScheme::shift
                  ? kernels::fit_lspi(kernels::shift_basis(state_kernels, m, *ctx.model), m,
                                      ctx.batch, lspi_options(point))
                  : kernels::fit_lspi_copy_basis(state_kernels, m, ctx.batch, lspi_options(point));
@@ -151,7 +168,8 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point,
   }
 
   const ReadingKernels kernels_of(*ctx.som, ctx.occupied, ctx.graph.center_distances, point,
-                                  fit.centers, ctx.job->basis.truncation);
+                                  fit.centers, ctx.job->basis.truncation,
+                                  pvf ? &ctx.eigenbases.of(point.kernels).node_values : nullptr);
   EpisodeTest test = test_weights(ctx, kernels_of, fit.lspi.weights, metrics, true);
   fit.metrics = metrics.named_values();
   for (NamedArray& trajectory : test.trajectories) fit.arrays.push_back(std::move(trajectory));
@@ -185,7 +203,7 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point,
 // valid count.
 std::vector<FitRecord> fit_points(RunContext& ctx, std::span<const SweepPoint> points) {
   for (const SweepPoint& point : points) {
-    if (point.kernels > ctx.graph.nodes) continue;
+    if (point.kernels > ctx.graph.nodes || point.basis == KernelType::pvf) continue;
     const auto kernels = static_cast<std::size_t>(point.kernels);
     bool found = false;
     for (SharedGap& g : ctx.kernel_gaps) {
@@ -347,7 +365,10 @@ RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::
   kernels::RandomStream center_stream = stream_for(job.seed, run, Purpose::centers);
   kernels::shuffle(centers, center_stream);
   ctx.graph = run_graph(record.graph, occupied, std::move(centers), prototypes, points);
-  if (job.basis.scheme == kernels::BasisScheme::shift) {
+  ctx.eigenbases = run_eigenbases(record.graph, occupied, job.pvf, points);
+  const bool pvf_shift = job.pvf.actions == kernels::BasisScheme::shift &&
+                         !pvf_counts(points, ctx.graph.nodes).empty();
+  if (job.basis.scheme == kernels::BasisScheme::shift || pvf_shift) {
     ctx.model = std::make_unique<kernels::EmpiricalTransitionModel>(
         static_cast<std::int32_t>(walks.readings.rows()), robot.num_actions(), batch.states,
         batch.actions, batch.next_states);

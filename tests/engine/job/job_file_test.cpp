@@ -604,5 +604,46 @@ TEST(TaskTables, EveryRegisteredTaskIsFoundByItsTable) {
   EXPECT_EQ(find_task("toy"), nullptr);
 }
 
+// [pvf]: the defaults (jobs/README.md) and every value; a job with neither the
+// basis nor the table records no pvf.* key (older results files resume).
+TEST(PvfTable, DefaultsValuesAndTheResolvedConfiguration) {
+  const char* source_dir = std::getenv("GGK_SOURCE_DIR");
+  if (source_dir == nullptr) GTEST_SKIP() << "GGK_SOURCE_DIR is not set (run through ctest)";
+  // Read as a file of jobs/, whose maps the maze's default map_file names.
+  const fs::path source = fs::path(source_dir) / "jobs" / "pvf.toml";
+  const auto parse = [&source](const std::string& text) { return parse_unchecked(text, source); };
+  const std::string header = substitute(kBadJobHeader, "DIR", "/tmp");
+  const JobSpec plain = parse(header);
+  EXPECT_FALSE(plain.resolved.contains("pvf.laplacian"));
+  EXPECT_FALSE(plain.resolved.contains("pvf.edge_weights"));
+
+  const JobSpec defaults = parse(with_line(header, 6, "kernels = [4, 8]\nbasis = [\"pvf\"]"));
+  EXPECT_EQ(defaults.sweep.basis, (std::vector<KernelType>{KernelType::pvf}));
+  EXPECT_EQ(defaults.pvf.laplacian, kernels::LaplacianKind::normalized);
+  EXPECT_EQ(defaults.pvf.edge_weights, kernels::EdgeAffinity::unit);
+  EXPECT_EQ(defaults.pvf.actions, kernels::BasisScheme::copy);
+  EXPECT_TRUE(defaults.resolved.contains("pvf.laplacian"));
+  EXPECT_TRUE(defaults.resolved.contains("pvf.actions"));
+
+  const JobSpec set = parse(header +
+                            "[pvf]\nlaplacian = \"combinatorial\"\nedge_weights = \"gaussian\"\n"
+                            "actions = \"shift\"\n");
+  EXPECT_EQ(set.pvf.laplacian, kernels::LaplacianKind::combinatorial);
+  EXPECT_EQ(set.pvf.edge_weights, kernels::EdgeAffinity::gaussian);
+  EXPECT_EQ(set.pvf.actions, kernels::BasisScheme::shift);
+  EXPECT_EQ(parse(header + "[pvf]\nedge_weights = \"distance\"\n").pvf.edge_weights,
+            kernels::EdgeAffinity::distance);
+
+  // A bad value or key names it, with its line.
+  try {
+    parse(header + "[pvf]\nlaplacian = \"random_walk\"\n");
+    FAIL() << "accepted laplacian = \"random_walk\"";
+  } catch (const JobError& error) {
+    EXPECT_NE(std::string(error.what()).find("laplacian"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("combinatorial"), std::string::npos) << error.what();
+  }
+  EXPECT_THROW(parse(header + "[pvf]\nedge_weight = \"unit\"\n"), JobError);
+}
+
 }  // namespace
 }  // namespace ggk::engine

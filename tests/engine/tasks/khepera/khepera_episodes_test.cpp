@@ -79,5 +79,50 @@ TEST(KheperaEpisodes, BoundedAndTheSameForTheSameStream) {
   EXPECT_LE(one.collision_fraction, 1.0);
 }
 
+// Basis "pvf": a reading's values are its nearest occupied unit's entries of the
+// unit eigenvectors (the first point.kernels), so an unoccupied best match falls
+// back as the continuous GGK does.
+TEST(KheperaEpisodes, PvfReadingsTakeTheirNearestOccupiedUnitsValues) {
+  const khepera::Khepera robot(small_config());
+  kernels::RandomStream random = stream_for(1, 0, Purpose::samples);
+  const Walks walks = random_walks(robot, random);
+  kernels::SomOptions options;
+  options.rows = 2;
+  options.cols = 2;
+  kernels::RandomStream som_stream = stream_for(1, 0, Purpose::model);
+  const kernels::SelfOrganizingMap som =
+      kernels::train_self_organizing_map(walks.readings, options, &som_stream);
+  kernels::RowMatrixXd unit_values(4, 3);
+  unit_values << 0.1, -0.2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12;
+  SweepPoint point;
+  point.basis = KernelType::pvf;
+  point.kernels = 2;
+  const kernels::RowMatrixXd distances;
+  const std::vector<std::int32_t> no_centers;
+  for (std::int32_t hole = 0; hole < 4; ++hole) {
+    std::vector<std::uint8_t> occupied(4, 1);
+    occupied[static_cast<std::size_t>(hole)] = 0;
+    const ReadingKernels kernels_of(som, occupied, distances, point, no_centers, 0.5, &unit_values);
+    for (Eigen::Index i = 0; i < walks.readings.rows(); ++i) {
+      const auto row = walks.readings.row(i);
+      const std::vector<double> reading(row.data(), row.data() + row.size());
+      // The nearest occupied unit, by brute force (ties to the lowest unit).
+      std::int32_t nearest = -1;
+      double best = 0.0;
+      for (std::int32_t u = 0; u < 4; ++u) {
+        const double d = (row - som.prototypes().row(u)).norm();
+        if (occupied[static_cast<std::size_t>(u)] && (nearest < 0 || d < best)) {
+          nearest = u;
+          best = d;
+        }
+      }
+      const Eigen::VectorXd k = kernels_of(reading);
+      ASSERT_EQ(k.size(), 2);
+      EXPECT_EQ(k[0], unit_values(nearest, 0));
+      EXPECT_EQ(k[1], unit_values(nearest, 1));  // untruncated: 0.5 does not apply
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ggk::engine

@@ -586,7 +586,8 @@ TEST_F(ShippedKheperaJob, PaperQuickAndCiJobs) {
   EXPECT_EQ(paper.sweep.kernels,
             (std::vector<std::int32_t>{10, 20, 30, 40, 50, 60, 70, 80, 90, 100}));
   EXPECT_EQ(paper.sweep.sigma, std::vector<double>{1000.0});
-  EXPECT_EQ(paper.sweep.basis, (std::vector<KernelType>{KernelType::ggk, KernelType::ogk}));
+  EXPECT_EQ(paper.sweep.basis,
+            (std::vector<KernelType>{KernelType::ggk, KernelType::ogk, KernelType::pvf}));
   EXPECT_EQ(paper.basis.scheme, kernels::BasisScheme::copy);
   const KheperaTaskConfig& p = khepera_config(paper);
   EXPECT_EQ(p.simulator.series * p.simulator.steps_per_series, 20000);
