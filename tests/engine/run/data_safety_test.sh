@@ -364,8 +364,12 @@ PYTHON
     rm -f "$scratch"/m.h5*
   done
   [ $tried -ge 4 ] || fail "only $tried damaged files made"
-  grep -q "crashed the HDF5 library" "$scratch/said" ||
-    fail "no command met the HDF5 crash in $tried files: the test no longer tests it"
+  # Under AddressSanitizer the allocator (and so whether HDF5 crashes) differs:
+  # every answer above is still required, the crash itself only without it.
+  if ! ldd "$GGK" 2>/dev/null | grep -q libasan; then
+    grep -q "crashed the HDF5 library" "$scratch/said" ||
+      fail "no command met the HDF5 crash in $tried files: the test no longer tests it"
+  fi
   ;;
 resume_rules)
   write_job "$scratch/job.toml" 3
