@@ -149,6 +149,17 @@ ReadingCrash::ReadingCrash(const std::string& file, const ChildEnd& end)
       file_(file),
       how_(ending_words(end)) {}
 
+ChildEnd read_whole_in_child(const std::filesystem::path& file) {
+  return run_in_child([&] {
+    std::ostream quiet(nullptr);
+    try {
+      verify_results(file, quiet);
+    } catch (const std::exception&) {  // an error is an answer, not a crash
+    }
+    return 0;
+  });
+}
+
 namespace {
 
 // The file of `files` whose whole reading crashes, or "one of A, B" when none
@@ -157,15 +168,7 @@ std::string crashing_file(const std::vector<std::filesystem::path>& files) {
   if (files.size() == 1) return files.front().string();
   std::string names;
   for (const std::filesystem::path& file : files) {
-    const ChildEnd end = run_in_child([&] {
-      std::ostream quiet(nullptr);
-      try {
-        verify_results(file, quiet);
-      } catch (const std::exception&) {  // an error is an answer, not a crash
-      }
-      return 0;
-    });
-    if (crashed(end)) return file.string();
+    if (crashed(read_whole_in_child(file))) return file.string();
     names += (names.empty() ? "" : ", ") + file.string();
   }
   return "one of " + names;

@@ -56,6 +56,11 @@ bool crashed(const ChildEnd& end);
 // (status 1) without a report".
 std::string ending_words(const ChildEnd& end);
 
+// Reads `file` whole (ggk verify's walk, output discarded) in a child: how the
+// child ended says whether reading it crashes HDF5 (crashed()); what verify
+// reports (damage, an error) is left to the reader that follows.
+ChildEnd read_whole_in_child(const std::filesystem::path& file);
+
 // A crash of the HDF5 library reading `file`: a UsageError (exit status 2),
 // saying the file is damaged where HDF5 does not check.
 class ReadingCrash : public UsageError {

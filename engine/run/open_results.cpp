@@ -8,7 +8,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <map>
-#include <ostream>
 #include <set>
 #include <stdexcept>
 #include <system_error>
@@ -543,14 +542,7 @@ OpenedResults open_results(const Study& study, const RunOptions& options) {
   if (state == OutputState::kFile && options.resume) {
     // Read whole in a child first (isolated_reading.hpp): a file whose damage
     // crashes HDF5 is never read here, where a crash would leave the lock.
-    const ChildEnd vetted = run_in_child([&] {
-      std::ostream quiet(nullptr);
-      try {
-        verify_results(output, quiet);
-      } catch (const std::exception&) {  // an error is an answer: resume() reports it
-      }
-      return 0;
-    });
+    const ChildEnd vetted = read_whole_in_child(output);  // resume() reports its damage
     if (crashed(vetted)) {
       crashes = true;
       damage = "reading it crashed the HDF5 library (" + ending_words(vetted) +
