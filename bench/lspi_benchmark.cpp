@@ -206,6 +206,42 @@ void BM_AssembleBrmSystem(benchmark::State& state, AssembleMethod method) {
   }
   state.SetLabel("Eigen sparse product");
 }
+// The greedy step of a copy basis over a Khepera-sized state-kernel table (20,200
+// readings, 4 actions): args p and the share of non-zeros per row in percent (100:
+// dense rows, as the untruncated kernels and the proto-value functions give).
+void BM_CopyBasisGreedy(benchmark::State& state) {
+  const auto p = static_cast<Eigen::Index>(state.range(0));
+  const double kept = static_cast<double>(state.range(1)) / 100.0;
+  constexpr Eigen::Index kStates = 20200;
+  kernels::RandomStream rng(13, 0, 0);
+  std::vector<Eigen::Triplet<double>> entries;
+  for (Eigen::Index s = 0; s < kStates; ++s) {
+    for (Eigen::Index j = 0; j < p; ++j) {
+      if (kept < 1.0 && rng.uniform() >= kept) continue;
+      entries.emplace_back(s, j, rng.uniform());
+    }
+  }
+  kernels::SparseRowMatrix table(kStates, p);
+  table.setFromTriplets(entries.begin(), entries.end());
+  table.makeCompressed();
+  Eigen::VectorXd weights(p * kActions);
+  for (Eigen::Index e = 0; e < weights.size(); ++e) weights(e) = rng.uniform() - 0.5;
+  for (auto _ : state) {
+    const std::vector<std::int32_t> policy =
+        kernels::copy_basis_greedy_policy(table, kActions, weights);
+    benchmark::DoNotOptimize(policy.data());
+  }
+  state.counters["MB_read"] =
+      static_cast<double>(table.nonZeros()) * 12.0 / 1e6;  // values and column indices
+}
+BENCHMARK(BM_CopyBasisGreedy)
+    ->ArgNames({"p", "nonzero_percent"})
+    ->Args({100, 100})
+    ->Args({50, 100})
+    ->Args({100, 30})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 // Registered with named values (solver:brm, not solver:0): the case
 // k = 400 with truncated kernels, and the arm's largest, k = 800 untruncated.
 const bool kRegistered = [] {

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <stdexcept>
 #include <string>
 
 #include "kernels/action_block_system.hpp"
+#include "kernels/copy_basis_greedy.hpp"
 #include "kernels/dense_solvers.hpp"
 
 namespace ggk::kernels {
@@ -189,102 +191,6 @@ bool is_copy_layout_internal(const SparseRowMatrix& features, std::int32_t num_a
   return true;
 }
 
-// The greedy policy of a copy basis from its state kernels: row s * row_step of
-// `kernels` holds kappa(s) (p columns). Q(s, a) sums v * w[a p + j] over the row's
-// entries in order, as the sparse product features * w does for row s * m + a of
-// the table, so the values (and the policy) are bit for bit the same.
-template <std::int32_t kActions>
-void copy_greedy_rows(const SparseRowMatrix& kernels, Eigen::Index row_step,
-                      std::int32_t num_actions, const std::vector<double>& by_center,
-                      std::vector<std::int32_t>& policy) {
-  const std::int32_t m = kActions > 0 ? kActions : num_actions;
-  const auto p = static_cast<std::int64_t>(by_center.size()) / m;
-  const auto* outer = kernels.outerIndexPtr();
-  const auto* inner = kernels.innerIndexPtr();
-  const double* values = kernels.valuePtr();
-  std::vector<double> q_storage(static_cast<std::size_t>(m));
-  auto one_state = [&](std::size_t s) {
-    const auto row = static_cast<Eigen::Index>(s) * row_step;
-    // A fixed-size local array stays in registers; each lane sums in entry order.
-    double q_fixed[kActions > 0 ? kActions : 1] = {};
-    double* q = kActions > 0 ? q_fixed : q_storage.data();
-    if constexpr (kActions <= 0) std::fill(q_storage.begin(), q_storage.end(), 0.0);
-    for (auto e = outer[row]; e < outer[row + 1]; ++e) {
-      const double v = values[e];
-      const double* w = by_center.data() + static_cast<std::size_t>(inner[e]) * m;
-      for (std::int32_t a = 0; a < m; ++a) q[a] += v * w[a];
-    }
-    std::int32_t best = 0;
-    for (std::int32_t a = 1; a < m; ++a) {
-      if (q[a] > q[best]) best = a;
-    }
-    policy[s] = best;
-  };
-  std::size_t s = 0;
-  if constexpr (kActions > 0) {
-    // Four states at a time where all four rows are dense (p entries: columns 0 ..
-    // p - 1 in order): four independent sums per action in flight instead of one
-    // chain of dependent additions; each sums the same products in the same order.
-    constexpr std::size_t kLanes = 4;
-    for (; s + kLanes <= policy.size(); s += kLanes) {
-      const double* v[kLanes];
-      bool dense = true;
-      for (std::size_t b = 0; b < kLanes; ++b) {
-        const auto row = static_cast<Eigen::Index>(s + b) * row_step;
-        dense = dense && outer[row + 1] - outer[row] == p;
-        v[b] = values + outer[row];
-      }
-      if (!dense) {
-        for (std::size_t b = 0; b < kLanes; ++b) one_state(s + b);
-        continue;
-      }
-      double q[kLanes][kActions] = {};
-      for (std::int64_t j = 0; j < p; ++j) {
-        const double* w = by_center.data() + j * kActions;
-        for (std::size_t b = 0; b < kLanes; ++b) {
-          for (std::int32_t a = 0; a < kActions; ++a) q[b][a] += v[b][j] * w[a];
-        }
-      }
-      for (std::size_t b = 0; b < kLanes; ++b) {
-        std::int32_t best = 0;
-        for (std::int32_t a = 1; a < kActions; ++a) {
-          if (q[b][a] > q[b][best]) best = a;
-        }
-        policy[s + b] = best;
-      }
-    }
-  }
-  for (; s < policy.size(); ++s) one_state(s);
-}
-
-// The greedy policy of a copy basis from its state kernels: row s * row_step of
-// `kernels` holds kappa(s) (p columns). Q(s, a) sums v * w[a p + j] over the row's
-// entries in order, as the sparse product features * w does for row s * m + a of
-// the table, so the values (and the policy) are bit for bit the same. The weights
-// are read centre-major (w[a p + j] at j m + a) so one entry serves all actions.
-std::vector<std::int32_t> copy_greedy(const SparseRowMatrix& kernels, Eigen::Index row_step,
-                                      Eigen::Index p, std::int32_t num_actions,
-                                      const Eigen::VectorXd& weights) {
-  std::vector<double> by_center(static_cast<std::size_t>(p * num_actions));
-  for (Eigen::Index j = 0; j < p; ++j) {
-    for (std::int32_t a = 0; a < num_actions; ++a) {
-      by_center[static_cast<std::size_t>(j * num_actions + a)] = weights(a * p + j);
-    }
-  }
-  std::vector<std::int32_t> policy(static_cast<std::size_t>(kernels.rows() / row_step), 0);
-  switch (num_actions) {
-    case 2:
-      copy_greedy_rows<2>(kernels, row_step, num_actions, by_center, policy);
-      break;
-    case 4:
-      copy_greedy_rows<4>(kernels, row_step, num_actions, by_center, policy);
-      break;
-    default:
-      copy_greedy_rows<0>(kernels, row_step, num_actions, by_center, policy);
-  }
-  return policy;
-}
-
 }  // namespace
 
 bool is_copy_layout(const SparseRowMatrix& features, std::int32_t num_actions) {
@@ -300,6 +206,20 @@ std::vector<std::int32_t> copy_layout_greedy_policy(const SparseRowMatrix& featu
                                                     const Eigen::VectorXd& weights) {
   if (!features.isCompressed()) return greedy_policy(features, num_actions, weights);
   return copy_greedy(features, num_actions, features.cols() / num_actions, num_actions, weights);
+}
+
+std::vector<std::int32_t> copy_basis_greedy_policy(const SparseRowMatrix& state_kernels,
+                                                   std::int32_t num_actions,
+                                                   const Eigen::VectorXd& weights) {
+  if (!state_kernels.isCompressed()) {
+    throw std::invalid_argument("copy_basis_greedy_policy: the state kernels must be compressed");
+  }
+  if (num_actions <= 0 || weights.size() != state_kernels.cols() * num_actions) {
+    throw std::invalid_argument("copy_basis_greedy_policy: " + std::to_string(weights.size()) +
+                                " weights for " + std::to_string(state_kernels.cols()) +
+                                " kernels and " + std::to_string(num_actions) + " actions");
+  }
+  return copy_greedy(state_kernels, 1, state_kernels.cols(), num_actions, weights);
 }
 
 Eigen::VectorXd action_values(const SparseRowMatrix& features, const Eigen::VectorXd& weights) {
@@ -333,25 +253,29 @@ Eigen::VectorXd state_values(const SparseRowMatrix& features, std::int32_t num_a
 
 namespace {
 
-// Policy iteration over an assembled system; `greedy(w)` is the greedy policy of
-// weights w over all table states.
-template <class Greedy>
-LspiResult iterate_policies(ActionBlockSystem& system, std::size_t num_states,
-                            const SampleBatch& samples, const LspiOptions& options,
-                            const Greedy& greedy) {
-  const std::size_t n = samples.size();
-  const bool brm = options.solver == LspiSolver::brm;
-  SymmetricSolver symmetric(options.solver_settings);
-  NonsymmetricSolver nonsymmetric(options.solver_settings);
-
-  // The states whose greedy action matters to the fit: those the samples start
-  // from or bootstrap from. Elsewhere (e.g. goal states only entered terminally)
-  // Q is not constrained by data and its argmax may flip between near-equal values.
-  std::vector<std::uint8_t> on_samples(num_states, 0);
-  for (std::size_t i = 0; i < n; ++i) {
+// The states whose greedy action matters to the fit: those the samples start
+// from or bootstrap from. Elsewhere (e.g. goal states only entered terminally)
+// Q is not constrained by data and its argmax may flip between near-equal values.
+std::vector<std::int32_t> sample_state_flags(std::size_t num_states, const SampleBatch& samples) {
+  std::vector<std::int32_t> on_samples(num_states, 0);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
     on_samples[static_cast<std::size_t>(samples.states[i])] = 1;
     if (!samples.terminals[i]) on_samples[static_cast<std::size_t>(samples.next_states[i])] = 1;
   }
+  return on_samples;
+}
+
+// Policy iteration over an assembled system; `greedy(w)` is the greedy policy of
+// weights w over all table states. counted[s] is how many sample states table
+// state s stands for (sample_state_flags when each stands for itself): a change of
+// its greedy action counts that many policy changes.
+template <class Greedy>
+LspiResult iterate_policies(ActionBlockSystem& system, const std::vector<std::int32_t>& counted,
+                            const LspiOptions& options, const Greedy& greedy) {
+  const std::size_t num_states = counted.size();
+  const bool brm = options.solver == LspiSolver::brm;
+  SymmetricSolver symmetric(options.solver_settings);
+  NonsymmetricSolver nonsymmetric(options.solver_settings);
 
   LspiResult result;
   std::vector<std::int32_t> policy(num_states, 0);  // greedy for w = 0
@@ -398,7 +322,7 @@ LspiResult iterate_policies(ActionBlockSystem& system, std::size_t num_states,
     std::vector<std::int32_t> improved = greedy(w);
     std::int32_t changes = 0;
     for (std::size_t s = 0; s < num_states; ++s) {
-      changes += (on_samples[s] && improved[s] != policy[s]) ? 1 : 0;
+      changes += improved[s] != policy[s] ? counted[s] : 0;
     }
     const double weight_change =
         result.weights.size() == 0 ? w.norm() : (w - result.weights).norm();
@@ -432,13 +356,14 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
   ActionBlockSystem system(features, num_actions, samples, options.solver, options.gamma);
   if (is_copy_layout(features, num_actions)) {
     const Eigen::Index p = features.cols() / num_actions;
-    return iterate_policies(system, num_states, samples, options, [&](const Eigen::VectorXd& w) {
-      return copy_greedy(features, num_actions, p, num_actions, w);
-    });
+    return iterate_policies(system, sample_state_flags(num_states, samples), options,
+                            [&](const Eigen::VectorXd& w) {
+                              return copy_greedy(features, num_actions, p, num_actions, w);
+                            });
   }
-  return iterate_policies(system, num_states, samples, options, [&](const Eigen::VectorXd& w) {
-    return greedy_policy(features, num_actions, w);
-  });
+  return iterate_policies(
+      system, sample_state_flags(num_states, samples), options,
+      [&](const Eigen::VectorXd& w) { return greedy_policy(features, num_actions, w); });
 }
 
 LspiResult fit_lspi_copy_basis(const SparseRowMatrix& state_kernels, std::int32_t num_actions,
@@ -455,9 +380,68 @@ LspiResult fit_lspi_copy_basis(const SparseRowMatrix& state_kernels, std::int32_
   ActionBlockSystem system(ActionBlockSystem::copy_basis_tag, kernels, num_actions, samples,
                            options.solver, options.gamma);
   const Eigen::Index p = kernels.cols();
-  return iterate_policies(system, num_states, samples, options, [&](const Eigen::VectorXd& w) {
+  return iterate_policies(
+      system, sample_state_flags(num_states, samples), options,
+      [&](const Eigen::VectorXd& w) { return copy_greedy(kernels, 1, p, num_actions, w); });
+}
+
+LspiResult fit_lspi_copy_basis(const SparseRowMatrix& row_kernels,
+                               std::span<const std::int32_t> row_of_state, std::int32_t num_actions,
+                               const SampleBatch& samples, const LspiOptions& options) {
+  check_options(num_actions, options);
+  const auto num_states = static_cast<std::int32_t>(row_of_state.size());
+  if (static_cast<std::size_t>(num_states) != row_of_state.size()) {
+    throw std::invalid_argument("fit_lspi_copy_basis: more than 2^31 - 1 states");
+  }
+  samples.validate(num_states, num_actions);
+  const auto rows = static_cast<std::size_t>(row_kernels.rows());
+  std::vector<std::uint8_t> used(rows, 0);
+  for (std::size_t s = 0; s < row_of_state.size(); ++s) {
+    const std::int32_t row = row_of_state[s];
+    if (row < 0 || static_cast<std::size_t>(row) >= rows) {
+      throw std::invalid_argument("fit_lspi_copy_basis: state " + std::to_string(s) + " has row " +
+                                  std::to_string(row) + ", outside the " + std::to_string(rows) +
+                                  " rows of its kernels");
+    }
+    used[static_cast<std::size_t>(row)] = 1;
+  }
+  const auto unused = std::find(used.begin(), used.end(), std::uint8_t{0});
+  if (unused != used.end()) {
+    throw std::invalid_argument("fit_lspi_copy_basis: row " +
+                                std::to_string(unused - used.begin()) +
+                                " of the kernels belongs to no state");
+  }
+  SparseRowMatrix compressed;  // copy_greedy reads the compressed arrays
+  if (!row_kernels.isCompressed()) {
+    compressed = row_kernels;
+    compressed.makeCompressed();
+  }
+  const SparseRowMatrix& kernels = row_kernels.isCompressed() ? row_kernels : compressed;
+  // The samples in the rows' terms, in their order: every product and sum of the
+  // system is the expanded table's, term by term.
+  SampleBatch by_row = samples;
+  for (std::int32_t& s : by_row.states) s = row_of_state[static_cast<std::size_t>(s)];
+  for (std::int32_t& s : by_row.next_states) s = row_of_state[static_cast<std::size_t>(s)];
+  const std::vector<std::int32_t> on_samples =
+      sample_state_flags(static_cast<std::size_t>(num_states), samples);
+  std::vector<std::int32_t> counted(rows, 0);
+  for (std::size_t s = 0; s < row_of_state.size(); ++s) {
+    counted[static_cast<std::size_t>(row_of_state[s])] += on_samples[s];
+  }
+  ActionBlockSystem system(ActionBlockSystem::copy_basis_tag, kernels, num_actions, by_row,
+                           options.solver, options.gamma);
+  const Eigen::Index p = kernels.cols();
+  LspiResult result = iterate_policies(system, counted, options, [&](const Eigen::VectorXd& w) {
     return copy_greedy(kernels, 1, p, num_actions, w);
   });
+  if (!result.policy.empty()) {
+    std::vector<std::int32_t> policy(row_of_state.size());
+    for (std::size_t s = 0; s < row_of_state.size(); ++s) {
+      policy[s] = result.policy[static_cast<std::size_t>(row_of_state[s])];
+    }
+    result.policy = std::move(policy);
+  }
+  return result;
 }
 
 }  // namespace ggk::kernels

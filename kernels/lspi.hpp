@@ -28,6 +28,7 @@
 // Thread-safety: fit_lspi is reentrant; distinct calls may run in parallel.
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -125,6 +126,18 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
 LspiResult fit_lspi_copy_basis(const SparseRowMatrix& state_kernels, std::int32_t num_actions,
                                const SampleBatch& samples, const LspiOptions& options);
 
+// fit_lspi_copy_basis for states that share their kernels: state s has row
+// row_of_state[s] of `row_kernels` (e.g. the Khepera's readings and the SOM unit
+// whose proto-value functions they take). The result equals fit_lspi_copy_basis on
+// the expanded kernels (row s = row_kernels.row(row_of_state[s])) bit for bit,
+// policy per state and policy_changes counting states included: the system sums the
+// same terms in the same order, and each greedy step reads every distinct row once
+// instead of once per state. Every row must belong to some state (else
+// std::invalid_argument, as for rows out of range).
+LspiResult fit_lspi_copy_basis(const SparseRowMatrix& row_kernels,
+                               std::span<const std::int32_t> row_of_state, std::int32_t num_actions,
+                               const SampleBatch& samples, const LspiOptions& options);
+
 // Q(s, a) for every table row, i.e. features * w.
 Eigen::VectorXd action_values(const SparseRowMatrix& features, const Eigen::VectorXd& weights);
 
@@ -143,6 +156,13 @@ bool is_copy_layout(const SparseRowMatrix& features, std::int32_t num_actions);
 std::vector<std::int32_t> copy_layout_greedy_policy(const SparseRowMatrix& features,
                                                     std::int32_t num_actions,
                                                     const Eigen::VectorXd& weights);
+
+// greedy_policy for the copy basis of `state_kernels` (N x p, compressed),
+// reading the state kernels alone: the policy is bit for bit greedy_policy's on
+// copy_basis(state_kernels, num_actions). fit_lspi_copy_basis uses it.
+std::vector<std::int32_t> copy_basis_greedy_policy(const SparseRowMatrix& state_kernels,
+                                                   std::int32_t num_actions,
+                                                   const Eigen::VectorXd& weights);
 
 // V(s) = max_a Q(s, a) per state.
 Eigen::VectorXd state_values(const SparseRowMatrix& features, std::int32_t num_actions,

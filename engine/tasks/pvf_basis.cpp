@@ -69,6 +69,25 @@ kernels::SparseRowMatrix pvf_state_table(const RunEigenbasis& basis,
   return table;
 }
 
+PvfRowTable pvf_row_table(const RunEigenbasis& basis, std::span<const std::int32_t> node_of,
+                          std::int32_t p) {
+  std::vector<std::int32_t> row_of_node(static_cast<std::size_t>(basis.node_values.rows()), -1);
+  for (const std::int32_t node : node_of) row_of_node[static_cast<std::size_t>(node)] = 0;
+  std::vector<std::int32_t> nodes;
+  for (std::size_t node = 0; node < row_of_node.size(); ++node) {
+    if (row_of_node[node] < 0) continue;
+    row_of_node[node] = static_cast<std::int32_t>(nodes.size());
+    nodes.push_back(static_cast<std::int32_t>(node));
+  }
+  PvfRowTable table;
+  table.rows = pvf_state_table(basis, nodes, p);
+  table.row_of_state.reserve(node_of.size());
+  for (const std::int32_t node : node_of) {
+    table.row_of_state.push_back(row_of_node[static_cast<std::size_t>(node)]);
+  }
+  return table;
+}
+
 NamedArray eigenvalue_array(const RunEigenbasis& basis) {
   return {"laplacian_eigenvalues",
           {static_cast<std::int64_t>(basis.values.size())},

@@ -63,6 +63,17 @@ RunEigenbases run_eigenbases(const kernels::CsrGraph& graph, std::span<const std
 kernels::SparseRowMatrix pvf_state_table(const RunEigenbasis& basis,
                                          std::span<const std::int32_t> node_of, std::int32_t p);
 
+// pvf_state_table with each distinct row once: `rows` holds the rows of the
+// distinct nodes of node_of (ascending node order), row_of_state[i] the row of
+// state i's node. For fit_lspi_copy_basis's shared rows: the Khepera's 20,200
+// readings take the values of at most 696 SOM units.
+struct PvfRowTable {
+  kernels::SparseRowMatrix rows;
+  std::vector<std::int32_t> row_of_state;
+};
+PvfRowTable pvf_row_table(const RunEigenbasis& basis, std::span<const std::int32_t> node_of,
+                          std::int32_t p);
+
 // A fit's eigenvalues as its array "laplacian_eigenvalues" (p values).
 NamedArray eigenvalue_array(const RunEigenbasis& basis);
 

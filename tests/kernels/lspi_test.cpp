@@ -427,6 +427,70 @@ TEST(Lspi, CopyBasisFromStateKernelsEqualsTheTable) {
   EXPECT_THROW(fit_lspi_copy_basis(state_kernels, 2, outside, {}), std::invalid_argument);
 }
 
+// States that share their kernels (the Khepera's readings of one SOM unit under
+// proto-value functions): the fit from the distinct rows and a row per state equals
+// the fit on the expanded kernels bit for bit, policy per state and policy_changes
+// counting states included, BRM and LSTD-Q, dense rows and rows with zeros (an
+// eigenvector's exact zeros), 60 states on 13 rows in shuffled order.
+TEST(Lspi, CopyBasisFromSharedRowsEqualsTheExpandedKernels) {
+  constexpr int kStates = 60, kRows = 12, kCenters = 5;
+  // Blocks of five neighbouring states share a row (rows in a shuffled order);
+  // Gaussian bumps over the blocks, cut below 0.05 (exact zeros).
+  const std::vector<std::int32_t> shuffled = {7, 2, 11, 0, 5, 9, 1, 4, 10, 3, 8, 6};
+  std::vector<std::int32_t> row_of_state(kStates);
+  for (int s = 0; s < kStates; ++s) row_of_state[s] = shuffled[static_cast<std::size_t>(s / 5)];
+  std::vector<Eigen::Triplet<double>> row_entries;
+  for (int block = 0; block < kRows; ++block) {
+    for (int j = 0; j < kCenters; ++j) {
+      const double d = block - 2.75 * j;
+      const double value = std::exp(-d * d / 4.0);
+      if (value >= 0.05)
+        row_entries.emplace_back(shuffled[static_cast<std::size_t>(block)], j, value);
+    }
+  }
+  SparseRowMatrix rows(kRows, kCenters);
+  rows.setFromTriplets(row_entries.begin(), row_entries.end());
+  rows.makeCompressed();
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int s = 0; s < kStates; ++s) {
+    for (SparseRowMatrix::InnerIterator it(rows, row_of_state[s]); it; ++it) {
+      entries.emplace_back(s, it.col(), it.value());
+    }
+  }
+  SparseRowMatrix expanded(kStates, kCenters);
+  expanded.setFromTriplets(entries.begin(), entries.end());
+  expanded.makeCompressed();
+  const SampleBatch samples = random_chain_walk(kStates, 20000, 19);
+  for (const LspiSolver solver : {LspiSolver::brm, LspiSolver::lstdq}) {
+    LspiOptions options;
+    options.solver = solver;
+    options.ridge = 1e-6;
+    const LspiResult full = fit_lspi_copy_basis(expanded, 2, samples, options);
+    const LspiResult shared = fit_lspi_copy_basis(rows, row_of_state, 2, samples, options);
+    ASSERT_TRUE(full.ok());
+    EXPECT_EQ(shared.status, full.status);
+    EXPECT_EQ(shared.weights, full.weights);
+    EXPECT_EQ(shared.policy, full.policy);
+    EXPECT_EQ(shared.b, full.b);
+    EXPECT_EQ(Eigen::MatrixXd(shared.a), Eigen::MatrixXd(full.a));
+    ASSERT_EQ(shared.iterations(), full.iterations());
+    for (int i = 0; i < full.iterations(); ++i) {
+      EXPECT_EQ(shared.history[i].policy_changes, full.history[i].policy_changes) << i;
+      EXPECT_EQ(shared.history[i].weight_change, full.history[i].weight_change) << i;
+    }
+    // States, not rows, are counted: a row's change counts its five states.
+    EXPECT_GT(full.iterations(), 2);
+    EXPECT_GT(full.history.front().policy_changes, 0);
+    for (const LspiIteration& iteration : shared.history)
+      EXPECT_EQ(iteration.policy_changes % 5, 0);
+  }
+  std::vector<std::int32_t> outside = row_of_state;
+  outside[5] = kRows;
+  EXPECT_THROW(fit_lspi_copy_basis(rows, outside, 2, samples, {}), std::invalid_argument);
+  std::vector<std::int32_t> orphan(kStates, 0);  // rows 1 .. 12 belong to no state
+  EXPECT_THROW(fit_lspi_copy_basis(rows, orphan, 2, samples, {}), std::invalid_argument);
+}
+
 // The copy-basis greedy policy reads only action 0's rows but sums the same
 // products in the same order: near-tied Q values (weights equal in all but the last
 // bits, many exact ties) give the same policy as greedy_policy.

@@ -90,22 +90,38 @@ double fit_kernel_gap(const RunContext& ctx, std::int32_t p, double sigma) {
 }
 
 // The state kernels of every reading of the walks for the first p centres.
-kernels::SparseRowMatrix state_kernel_table(const RunContext& ctx, KernelType basis, double sigma,
-                                            std::int32_t p) {
+// row_of_state is empty (one row per reading) except for proto-value functions in
+// the copy scheme: their readings take their SOM unit's row, so `kernels` holds
+// each occupied unit's row once (pvf_row_table) for fit_lspi_copy_basis's shared
+// rows, the same fit bit for bit with a greedy step over the units.
+struct FitTable {
+  kernels::SparseRowMatrix kernels;
+  std::vector<std::int32_t> row_of_state;
+};
+
+FitTable state_kernel_table(const RunContext& ctx, KernelType basis, double sigma, std::int32_t p) {
   const double truncation = ctx.job->basis.truncation;
-  if (basis == KernelType::pvf)
-    return pvf_state_table(ctx.eigenbases.of(p), ctx.state_units.units, p);
+  if (basis == KernelType::pvf) {
+    if (ctx.job->pvf.actions == kernels::BasisScheme::copy) {
+      PvfRowTable table = pvf_row_table(ctx.eigenbases.of(p), ctx.state_units.units, p);
+      return {std::move(table.rows), std::move(table.row_of_state)};
+    }
+    return {pvf_state_table(ctx.eigenbases.of(p), ctx.state_units.units, p), {}};
+  }
   if (basis == KernelType::ggk) {
-    return kernels::continuous_geodesic_gaussian_kernels(
-        ctx.state_units.units, ctx.state_units.distances, ctx.graph.center_distances.topRows(p),
-        sigma, truncation);
+    return {kernels::continuous_geodesic_gaussian_kernels(
+                ctx.state_units.units, ctx.state_units.distances,
+                ctx.graph.center_distances.topRows(p), sigma, truncation),
+            {}};
   }
   kernels::RowMatrixXd center_vectors(p, khepera::kNumSensors);
   for (std::int32_t j = 0; j < p; ++j) {
     center_vectors.row(j) =
         ctx.som->prototypes().row(ctx.graph.centers[static_cast<std::size_t>(j)]);
   }
-  return kernels::ordinary_gaussian_kernels(ctx.walks->readings, center_vectors, sigma, truncation);
+  return {
+      kernels::ordinary_gaussian_kernels(ctx.walks->readings, center_vectors, sigma, truncation),
+      {}};
 }
 
 // The test of greedy weights: the episodes from a fresh copy of the run's
@@ -123,10 +139,9 @@ EpisodeTest test_weights(const RunContext& ctx, const ReadingKernels& kernels_of
   return test;
 }
 
-// state_kernels: the point's table (state_kernel_table), read only when the point
+// table: the point's state kernels (state_kernel_table), read only when the point
 // is valid (no more kernels than graph nodes).
-FitRecord fit_point(const RunContext& ctx, const SweepPoint& point,
-                    const kernels::SparseRowMatrix& state_kernels) {
+FitRecord fit_point(const RunContext& ctx, const SweepPoint& point, const FitTable& table) {
   const auto started = std::chrono::steady_clock::now();
   const khepera::Khepera& robot = *ctx.robot;
   const std::int32_t m = robot.num_actions();
@@ -155,10 +170,15 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point,
   // The copy scheme's table is never formed: fit_lspi_copy_basis reads the state
   // kernels (the same result bit for bit).
   const kernels::BasisScheme scheme = pvf ? ctx.job->pvf.actions : ctx.job->basis.scheme;
-  fit.lspi = scheme == kernels::BasisScheme::shift
-                 ? kernels::fit_lspi(kernels::shift_basis(state_kernels, m, *ctx.model), m,
-                                     ctx.batch, lspi_options(point))
-                 : kernels::fit_lspi_copy_basis(state_kernels, m, ctx.batch, lspi_options(point));
+  if (scheme == kernels::BasisScheme::shift) {
+    fit.lspi = kernels::fit_lspi(kernels::shift_basis(table.kernels, m, *ctx.model), m, ctx.batch,
+                                 lspi_options(point));
+  } else if (table.row_of_state.empty()) {
+    fit.lspi = kernels::fit_lspi_copy_basis(table.kernels, m, ctx.batch, lspi_options(point));
+  } else {
+    fit.lspi = kernels::fit_lspi_copy_basis(table.kernels, table.row_of_state, m, ctx.batch,
+                                            lspi_options(point));
+  }
   fit.status = kernels::to_string(fit.lspi.status);
   fit.message = fit.lspi.message;
   metrics.set("lspi_iterations", static_cast<double>(fit.lspi.iterations()));
@@ -236,10 +256,9 @@ std::vector<FitRecord> fit_points(RunContext& ctx, std::span<const SweepPoint> p
   tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
     const std::vector<std::size_t>& group = groups[g];
     const SweepPoint& first = points[group.front()];
-    const kernels::SparseRowMatrix table =
-        first.kernels > ctx.graph.nodes
-            ? kernels::SparseRowMatrix()
-            : state_kernel_table(ctx, first.basis, first.sigma, first.kernels);
+    const FitTable table = first.kernels > ctx.graph.nodes
+                               ? FitTable()
+                               : state_kernel_table(ctx, first.basis, first.sigma, first.kernels);
     tbb::parallel_for(std::size_t{0}, group.size(), [&](std::size_t f) {
       fits[group[f]] = fit_point(ctx, points[group[f]], table);
     });

@@ -90,6 +90,19 @@ TEST(PvfBasis, StatesOffTheGraphTakeTheirNearestNodesValues) {
     EXPECT_EQ(table.coeff(3, j), basis.node_values(2, j));
     EXPECT_EQ(table.coeff(0, j), basis.node_values(0, j));
   }
+  // The same table with each distinct node's row once: nodes 0, 1, 2 in order
+  // (state 3 shares node 2's row), each row the expanded table's, bit for bit.
+  const std::vector<std::int32_t> shared_node_of = {2, 0, 2, 2};
+  const PvfRowTable shared = pvf_row_table(basis, shared_node_of, 2);
+  ASSERT_EQ(shared.rows.rows(), 2);
+  EXPECT_EQ(shared.row_of_state, (std::vector<std::int32_t>{1, 0, 1, 1}));
+  const kernels::SparseRowMatrix expanded = pvf_state_table(basis, shared_node_of, 2);
+  for (Eigen::Index i = 0; i < 4; ++i) {
+    for (Eigen::Index j = 0; j < 2; ++j) {
+      EXPECT_EQ(shared.rows.coeff(shared.row_of_state[static_cast<std::size_t>(i)], j),
+                expanded.coeff(i, j));
+    }
+  }
   const NamedArray array = eigenvalue_array(basis);
   EXPECT_EQ(array.name, "laplacian_eigenvalues");
   EXPECT_EQ(array.values.size(), 3u);

@@ -1,0 +1,182 @@
+#include "kernels/copy_basis_greedy.hpp"
+
+#include <algorithm>
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define GGK_GREEDY_AVX2 1
+#include <immintrin.h>
+#endif
+
+namespace ggk::kernels {
+
+namespace {
+
+// The greedy actions of states [first, last), one state at a time, for m =
+// kActions actions (any m when kActions is 0). A fixed-size local array stays in
+// registers; each action's sum runs in entry order.
+template <std::int32_t kActions>
+void copy_greedy_states(const SparseRowMatrix& kernels, Eigen::Index row_step,
+                        std::int32_t num_actions, const std::vector<double>& by_center,
+                        std::vector<std::int32_t>& policy, std::size_t first, std::size_t last) {
+  const std::int32_t m = kActions > 0 ? kActions : num_actions;
+  const auto* outer = kernels.outerIndexPtr();
+  const auto* inner = kernels.innerIndexPtr();
+  const double* values = kernels.valuePtr();
+  std::vector<double> q_storage(kActions > 0 ? 0 : static_cast<std::size_t>(m));
+  for (std::size_t s = first; s < last; ++s) {
+    const auto row = static_cast<Eigen::Index>(s) * row_step;
+    double q_fixed[kActions > 0 ? kActions : 1] = {};
+    double* q = kActions > 0 ? q_fixed : q_storage.data();
+    if constexpr (kActions <= 0) std::fill(q_storage.begin(), q_storage.end(), 0.0);
+    for (auto e = outer[row]; e < outer[row + 1]; ++e) {
+      const double v = values[e];
+      const double* w = by_center.data() + static_cast<std::size_t>(inner[e]) * m;
+      for (std::int32_t a = 0; a < m; ++a) q[a] += v * w[a];
+    }
+    std::int32_t best = 0;
+    for (std::int32_t a = 1; a < m; ++a) {
+      if (q[a] > q[best]) best = a;
+    }
+    policy[s] = best;
+  }
+}
+
+// The portable path: with a fixed action count, four states at a time where all
+// four rows are dense (p entries: columns 0 .. p - 1 in order): four independent
+// sums per action in flight instead of one chain of dependent additions; each sums
+// the same products in the same order.
+template <std::int32_t kActions>
+void copy_greedy_rows(const SparseRowMatrix& kernels, Eigen::Index row_step,
+                      std::int32_t num_actions, const std::vector<double>& by_center,
+                      std::vector<std::int32_t>& policy) {
+  std::size_t s = 0;
+  if constexpr (kActions > 0) {
+    const auto p = static_cast<std::int64_t>(by_center.size()) / kActions;
+    const auto* outer = kernels.outerIndexPtr();
+    const double* values = kernels.valuePtr();
+    constexpr std::size_t kLanes = 4;
+    for (; s + kLanes <= policy.size(); s += kLanes) {
+      const double* v[kLanes];
+      bool dense = true;
+      for (std::size_t b = 0; b < kLanes; ++b) {
+        const auto row = static_cast<Eigen::Index>(s + b) * row_step;
+        dense = dense && outer[row + 1] - outer[row] == p;
+        v[b] = values + outer[row];
+      }
+      if (!dense) {
+        copy_greedy_states<kActions>(kernels, row_step, num_actions, by_center, policy, s,
+                                     s + kLanes);
+        continue;
+      }
+      double q[kLanes][kActions] = {};
+      for (std::int64_t j = 0; j < p; ++j) {
+        const double* w = by_center.data() + j * kActions;
+        for (std::size_t b = 0; b < kLanes; ++b) {
+          for (std::int32_t a = 0; a < kActions; ++a) q[b][a] += v[b][j] * w[a];
+        }
+      }
+      for (std::size_t b = 0; b < kLanes; ++b) {
+        std::int32_t best = 0;
+        for (std::int32_t a = 1; a < kActions; ++a) {
+          if (q[b][a] > q[b][best]) best = a;
+        }
+        policy[s + b] = best;
+      }
+    }
+  }
+  copy_greedy_states<kActions>(kernels, row_step, num_actions, by_center, policy, s, policy.size());
+}
+
+#if GGK_GREEDY_AVX2
+// The AVX2 path for four actions: eight states at a time where all eight rows are
+// dense (p entries, columns 0 .. p - 1 in order), one 256-bit lane per action, a
+// multiply then an add per entry (the target has no FMA, so none is fused): each
+// Q(s, a) is the portable path's sum, term by term. Other rows go through the
+// portable path's per-state loop.
+__attribute__((target("avx2"))) void copy_greedy_rows_avx2(const SparseRowMatrix& kernels,
+                                                           Eigen::Index row_step,
+                                                           const std::vector<double>& by_center,
+                                                           std::vector<std::int32_t>& policy) {
+  constexpr std::size_t kLanes = 8;
+  const auto p = static_cast<std::int64_t>(by_center.size()) / 4;
+  const auto* outer = kernels.outerIndexPtr();
+  const double* values = kernels.valuePtr();
+  std::size_t s = 0;
+  for (; s + kLanes <= policy.size(); s += kLanes) {
+    const double* v[kLanes];
+    bool dense = true;
+    for (std::size_t b = 0; b < kLanes; ++b) {
+      const auto row = static_cast<Eigen::Index>(s + b) * row_step;
+      dense = dense && outer[row + 1] - outer[row] == p;
+      v[b] = values + outer[row];
+    }
+    if (!dense) {
+      copy_greedy_states<4>(kernels, row_step, 4, by_center, policy, s, s + kLanes);
+      continue;
+    }
+    __m256d q[kLanes];
+    for (std::size_t b = 0; b < kLanes; ++b) q[b] = _mm256_setzero_pd();
+    for (std::int64_t j = 0; j < p; ++j) {
+      const __m256d w = _mm256_loadu_pd(by_center.data() + j * 4);
+      for (std::size_t b = 0; b < kLanes; ++b) {
+        q[b] = _mm256_add_pd(q[b], _mm256_mul_pd(_mm256_set1_pd(v[b][j]), w));
+      }
+    }
+    for (std::size_t b = 0; b < kLanes; ++b) {
+      alignas(32) double lane[4];
+      _mm256_store_pd(lane, q[b]);
+      std::int32_t best = 0;
+      for (std::int32_t a = 1; a < 4; ++a) {
+        if (lane[a] > lane[best]) best = a;
+      }
+      policy[s + b] = best;
+    }
+  }
+  copy_greedy_states<4>(kernels, row_step, 4, by_center, policy, s, policy.size());
+}
+#endif
+
+}  // namespace
+
+bool greedy_uses_avx2() {
+#if GGK_GREEDY_AVX2
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+#else
+  return false;
+#endif
+}
+
+// The weights are read centre-major (w[a p + j] at j m + a) so one entry serves
+// all actions.
+std::vector<std::int32_t> copy_greedy(const SparseRowMatrix& kernels, Eigen::Index row_step,
+                                      Eigen::Index p, std::int32_t num_actions,
+                                      const Eigen::VectorXd& weights,
+                                      GreedyInstructions instructions) {
+  std::vector<double> by_center(static_cast<std::size_t>(p * num_actions));
+  for (Eigen::Index j = 0; j < p; ++j) {
+    for (std::int32_t a = 0; a < num_actions; ++a) {
+      by_center[static_cast<std::size_t>(j * num_actions + a)] = weights(a * p + j);
+    }
+  }
+  std::vector<std::int32_t> policy(static_cast<std::size_t>(kernels.rows() / row_step), 0);
+  switch (num_actions) {
+    case 2:
+      copy_greedy_rows<2>(kernels, row_step, num_actions, by_center, policy);
+      break;
+    case 4:
+#if GGK_GREEDY_AVX2
+      if (instructions == GreedyInstructions::automatic && greedy_uses_avx2()) {
+        copy_greedy_rows_avx2(kernels, row_step, by_center, policy);
+        break;
+      }
+#endif
+      copy_greedy_rows<4>(kernels, row_step, num_actions, by_center, policy);
+      break;
+    default:
+      copy_greedy_rows<0>(kernels, row_step, num_actions, by_center, policy);
+  }
+  return policy;
+}
+
+}  // namespace ggk::kernels
