@@ -16,6 +16,7 @@
 
 #include "bench/grid_graphs.hpp"
 #include "kernels/action_block_system.hpp"
+#include "kernels/copy_basis_greedy.hpp"
 #include "kernels/dense_solvers.hpp"
 #include "kernels/gaussian_kernels.hpp"
 #include "kernels/lspi.hpp"
@@ -207,9 +208,11 @@ void BM_AssembleBrmSystem(benchmark::State& state, AssembleMethod method) {
   state.SetLabel("Eigen sparse product");
 }
 // The greedy step of a copy basis over a Khepera-sized state-kernel table (20,200
-// readings, 4 actions): args p and the share of non-zeros per row in percent (100:
-// dense rows, as the untruncated kernels and the proto-value functions give).
-void BM_CopyBasisGreedy(benchmark::State& state) {
+// readings, 4 actions), each instruction path (kernels/copy_basis_greedy.hpp): named
+// instructions:{portable,automatic} (automatic: AVX2 where the CPU has it, the
+// label says which ran); args p and the share of non-zeros per row in percent (100:
+// dense rows, as untruncated kernels and proto-value functions give).
+void BM_CopyBasisGreedy(benchmark::State& state, kernels::GreedyInstructions instructions) {
   const auto p = static_cast<Eigen::Index>(state.range(0));
   const double kept = static_cast<double>(state.range(1)) / 100.0;
   constexpr Eigen::Index kStates = 20200;
@@ -228,19 +231,15 @@ void BM_CopyBasisGreedy(benchmark::State& state) {
   for (Eigen::Index e = 0; e < weights.size(); ++e) weights(e) = rng.uniform() - 0.5;
   for (auto _ : state) {
     const std::vector<std::int32_t> policy =
-        kernels::copy_basis_greedy_policy(table, kActions, weights);
+        kernels::copy_greedy(table, 1, p, kActions, weights, instructions);
     benchmark::DoNotOptimize(policy.data());
   }
-  state.counters["MB_read"] =
-      static_cast<double>(table.nonZeros()) * 12.0 / 1e6;  // values and column indices
+  state.counters["MB_values"] = static_cast<double>(table.nonZeros()) * 8.0 / 1e6;
+  state.SetLabel(instructions == kernels::GreedyInstructions::automatic &&
+                         kernels::greedy_uses_avx2()
+                     ? "avx2"
+                     : "portable");
 }
-BENCHMARK(BM_CopyBasisGreedy)
-    ->ArgNames({"p", "nonzero_percent"})
-    ->Args({100, 100})
-    ->Args({50, 100})
-    ->Args({100, 30})
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
 
 // Registered with named values (solver:brm, not solver:0): the case
 // k = 400 with truncated kernels, and the arm's largest, k = 800 untruncated.
@@ -265,6 +264,19 @@ const bool kRegistered = [] {
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
     }
+  }
+  const std::pair<const char*, kernels::GreedyInstructions> paths[] = {
+      {"portable", kernels::GreedyInstructions::portable},
+      {"automatic", kernels::GreedyInstructions::automatic}};
+  for (const auto& [name, instructions] : paths) {
+    benchmark::RegisterBenchmark((std::string("BM_CopyBasisGreedy/instructions:") + name).c_str(),
+                                 BM_CopyBasisGreedy, instructions)
+        ->ArgNames({"p", "nonzero_percent"})
+        ->Args({100, 100})
+        ->Args({50, 100})
+        ->Args({100, 30})
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
   }
   const std::pair<const char*, AssembleMethod> methods[] = {
       {"action_blocks", AssembleMethod::action_blocks},
