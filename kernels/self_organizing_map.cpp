@@ -12,6 +12,11 @@
 #include <tbb/parallel_for.h>
 #include <Eigen/Eigenvalues>
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define GGK_SOM_AVX2 1
+#include <immintrin.h>
+#endif
+
 namespace ggk::kernels {
 
 namespace {
@@ -125,6 +130,107 @@ ScreenTable screen_table(const std::vector<double>& table, std::int32_t units, s
 
 // BMU of every row of `points`, in parallel over blocks of rows; each row is
 // independent, so the result does not depend on the partition or the thread count.
+// One query's screen: row[u] = |m_u|^2 - 2 row[u] (row[u] holding x . m_u), and
+// the smallest of them. Portable: one unit at a time.
+double scan_portable(double* row, const double* squared_norms, std::int32_t units) {
+  double lowest = kInfinity;
+  for (std::int32_t u = 0; u < units; ++u) {
+    row[u] = squared_norms[u] - 2.0 * row[u];
+    lowest = std::min(lowest, row[u]);
+  }
+  return lowest;
+}
+
+// Calls candidate(u) for every unit u with row[u] <= limit, in increasing u.
+template <class Candidate>
+void for_each_candidate_portable(const double* row, std::int32_t units, double limit,
+                                 const Candidate& candidate) {
+  for (std::int32_t u = 0; u < units; ++u) {
+    if (row[u] <= limit) candidate(u);
+  }
+}
+
+#if GGK_SOM_AVX2
+// The same two passes four units at a time (kernels/copy_basis_greedy.hpp: the
+// AVX2 path is chosen at run time). Each score is the same IEEE multiply by 2
+// (exact) and subtraction; _mm256_min_pd(a, b) is a < b ? a : b, lane by lane, as
+// std::min(b, a) is, so the minimum is the portable one whatever the order (the
+// screen's scores are finite: the samples are checked finite). The candidates
+// are the lanes whose compare holds, visited in increasing u.
+__attribute__((target("avx2"))) double scan_avx2(double* row, const double* squared_norms,
+                                                 std::int32_t units) {
+  __m256d lowest4 = _mm256_set1_pd(kInfinity);
+  const __m256d two = _mm256_set1_pd(2.0);
+  std::int32_t u = 0;
+  for (; u + 4 <= units; u += 4) {
+    const __m256d score = _mm256_sub_pd(_mm256_loadu_pd(squared_norms + u),
+                                        _mm256_mul_pd(two, _mm256_loadu_pd(row + u)));
+    _mm256_storeu_pd(row + u, score);
+    lowest4 = _mm256_min_pd(score, lowest4);
+  }
+  alignas(32) double lanes[4];
+  _mm256_store_pd(lanes, lowest4);
+  double lowest = kInfinity;
+  for (const double lane : lanes) lowest = std::min(lowest, lane);
+  for (; u < units; ++u) {
+    row[u] = squared_norms[u] - 2.0 * row[u];
+    lowest = std::min(lowest, row[u]);
+  }
+  return lowest;
+}
+
+// The units' bits of row[u] <= limit (ordered, non-signalling: false for NaN, as
+// the portable compare), four at a time.
+__attribute__((target("avx2"))) void candidate_masks_avx2(const double* row, std::int32_t units,
+                                                          double limit,
+                                                          std::vector<std::uint8_t>& masks) {
+  const __m256d bound = _mm256_set1_pd(limit);
+  masks.assign(static_cast<std::size_t>((units + 3) / 4), 0);
+  std::int32_t u = 0;
+  for (; u + 4 <= units; u += 4) {
+    masks[static_cast<std::size_t>(u / 4)] = static_cast<std::uint8_t>(
+        _mm256_movemask_pd(_mm256_cmp_pd(_mm256_loadu_pd(row + u), bound, _CMP_LE_OQ)));
+  }
+  for (; u < units; ++u) {
+    if (row[u] <= limit) masks[static_cast<std::size_t>(u / 4)] |= std::uint8_t(1u << (u % 4));
+  }
+}
+#endif
+
+bool som_uses_avx2() {
+#if GGK_SOM_AVX2
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+#else
+  return false;
+#endif
+}
+
+double scan(double* row, const double* squared_norms, std::int32_t units) {
+#if GGK_SOM_AVX2
+  if (som_uses_avx2()) return scan_avx2(row, squared_norms, units);
+#endif
+  return scan_portable(row, squared_norms, units);
+}
+
+template <class Candidate>
+void for_each_candidate(const double* row, std::int32_t units, double limit,
+                        const Candidate& candidate) {
+#if GGK_SOM_AVX2
+  if (som_uses_avx2()) {
+    thread_local std::vector<std::uint8_t> masks;
+    candidate_masks_avx2(row, units, limit, masks);
+    for (std::size_t block = 0; block < masks.size(); ++block) {
+      for (std::uint32_t bits = masks[block]; bits != 0; bits &= bits - 1) {
+        candidate(static_cast<std::int32_t>(block * 4) + __builtin_ctz(bits));
+      }
+    }
+    return;
+  }
+#endif
+  for_each_candidate_portable(row, units, limit, candidate);
+}
+
 void best_matches_squared(const Eigen::Ref<const RowMatrixXd>& points,
                           const std::vector<double>& table, std::int32_t units,
                           std::span<std::int32_t> out_units, std::span<double> out_squared) {
@@ -144,24 +250,19 @@ void best_matches_squared(const Eigen::Ref<const RowMatrixXd>& points,
           for (Eigen::Index r = 0; r < count; ++r) {
             const Eigen::Index i = first + r;
             double* row = scores.row(r).data();
-            double lowest = kInfinity;
-            for (std::int32_t u = 0; u < units; ++u) {
-              row[u] = screen.squared_norms(u) - 2.0 * row[u];
-              lowest = std::min(lowest, row[u]);
-            }
+            const double lowest = scan(row, screen.squared_norms.data(), units);
             const double* x = points.row(i).data();
             const double limit =
                 lowest + kScreenSlack * (points.row(i).squaredNorm() + screen.max_squared_norm);
             double best = kInfinity;
             std::int32_t best_unit = 0;
-            for (std::int32_t u = 0; u < units; ++u) {
-              if (!(row[u] <= limit)) continue;
+            for_each_candidate(row, units, limit, [&](std::int32_t u) {
               const double exact = exact_squared(x, table, stride, u, dim);
               if (exact < best) {
                 best = exact;
                 best_unit = u;
               }
-            }
+            });
             out_units[static_cast<std::size_t>(i)] = best_unit;
             out_squared[static_cast<std::size_t>(i)] = best;
           }
