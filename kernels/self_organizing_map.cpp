@@ -83,6 +83,46 @@ SquaredMatch best_match_squared(const double* x, const std::vector<double>& tabl
   return {best_unit, best};
 }
 
+#if GGK_SOM_AVX2
+// best_match_squared with the tile in four 256-bit registers (the AVX2 path,
+// chosen at run time as the batch search's): per lane the same subtraction,
+// multiply and add in the same order (no FMA in the target), so the same bits;
+// the tile's minimum is exact in any order, and the index search is the same loop.
+__attribute__((target("avx2"))) SquaredMatch best_match_squared_avx2(
+    const double* x, const std::vector<double>& table, std::int32_t units, std::int32_t dim) {
+  static_assert(kTile == 16, "four registers of four units per tile");
+  const std::int32_t stride = padded_units(units);
+  double best = kInfinity;
+  std::int32_t best_unit = 0;
+  for (std::int32_t first = 0; first < units; first += kTile) {
+    __m256d acc[4] = {_mm256_setzero_pd(), _mm256_setzero_pd(), _mm256_setzero_pd(),
+                      _mm256_setzero_pd()};
+    for (std::int32_t j = 0; j < dim; ++j) {
+      const double* column = table.data() + static_cast<std::size_t>(j) * stride + first;
+      const __m256d xj = _mm256_set1_pd(x[j]);
+      for (int r = 0; r < 4; ++r) {
+        const __m256d diff = _mm256_sub_pd(xj, _mm256_loadu_pd(column + 4 * r));
+        acc[r] = _mm256_add_pd(acc[r], _mm256_mul_pd(diff, diff));
+      }
+    }
+    alignas(32) double tile[kTile];
+    for (int r = 0; r < 4; ++r) _mm256_store_pd(tile + 4 * r, acc[r]);
+    const __m256d low = _mm256_min_pd(_mm256_min_pd(acc[0], acc[1]), _mm256_min_pd(acc[2], acc[3]));
+    alignas(32) double lanes[4];
+    _mm256_store_pd(lanes, low);
+    if (std::min(std::min(lanes[0], lanes[1]), std::min(lanes[2], lanes[3])) < best) {
+      for (std::int32_t t = 0; t < kTile; ++t) {
+        if (tile[t] < best) {
+          best = tile[t];
+          best_unit = first + t;
+        }
+      }
+    }
+  }
+  return {best_unit, best};
+}
+#endif
+
 // The batch search screens units through the BLAS and settles on the exact
 // distance. For a block of query rows x_i, s(i, u) = |m_u|^2 - 2 x_i . m_u (one GEMM
 // for the block) equals |x_i - m_u|^2 - |x_i|^2 up to rounding of at most
@@ -513,7 +553,12 @@ BestMatch SelfOrganizingMap::best_matching_unit(std::span<const double> x) const
     throw std::invalid_argument("best_matching_unit: query contains NaN or infinity");
   }
   const SquaredMatch match =
-      best_match_squared(x.data(), prototypes_by_dimension_, num_units(), dimension());
+#if GGK_SOM_AVX2
+      som_uses_avx2()
+          ? best_match_squared_avx2(x.data(), prototypes_by_dimension_, num_units(), dimension())
+          :
+#endif
+          best_match_squared(x.data(), prototypes_by_dimension_, num_units(), dimension());
   return {match.unit, std::sqrt(match.squared_distance)};
 }
 
