@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "kernels/blas_runtime.hpp"
 
@@ -61,6 +62,18 @@ ActionBlockSystem::ActionBlockSystem(const SparseRowMatrix& features, bool copy_
       nonzeros += it.value() != 0.0 ? 1 : 0;
     }
     table_has_zeros_ = nonzeros != p_;
+  }
+  // Every gathered entry sqrt(w_i) kappa is non-zero when the table has no zero
+  // and the smallest product of a weight's root and a value's magnitude does not
+  // underflow (rounding is monotonic: no other product is smaller).
+  if (!table_has_zeros_) {
+    double smallest_value = std::numeric_limits<double>::infinity();
+    for (Eigen::Index e = 0; e < features.nonZeros(); ++e) {
+      smallest_value = std::min(smallest_value, std::abs(features.valuePtr()[e]));
+    }
+    double smallest_root = std::numeric_limits<double>::infinity();
+    for (const double root : sqrt_weights_) smallest_root = std::min(smallest_root, root);
+    gathered_without_zeros_ = smallest_value * smallest_root > 0.0;
   }
   start_blocks_.reserve(by_action.size());
   for (std::int32_t a = 0; a < num_actions; ++a) {
@@ -226,7 +239,13 @@ void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>&
         v.transpose(), sign * gamma_ * gamma_);
     const auto rewards = weighted_rewards(rows, scratch.rewards);
     blocks.rhs.segment(y * p_, p_).noalias() -= (sign * gamma_) * (v.transpose() * rewards);
-    if (rhs_supports) {
+    if (rhs_supports && gathered_without_zeros_) {
+      // Every v entry is non-zero: each entry's count is the group's number of
+      // non-zero rewards (the same exact integer as the product below gives).
+      double nonzero_rewards = 0.0;
+      for (Eigen::Index r = 0; r < rewards.size(); ++r) nonzero_rewards += rewards(r) != 0.0;
+      blocks.rhs_support.segment(y * p_, p_).array() += sign * nonzero_rewards;
+    } else if (rhs_supports) {
       const auto v_support =
           block_supports ? Eigen::Map<Eigen::MatrixXd>(scratch.v_support.data(), v.rows(), p_)
                          : nonzero_indicator(v, scratch.v_support);

@@ -145,6 +145,9 @@ class ActionBlockSystem {
   Eigen::VectorXd start_rhs_;                  // sum_i e_{a_i} u_i sqrt(w_i) r_i
   std::int64_t live_samples_ = 0;              // non-terminal samples
   bool table_has_zeros_ = false;               // some row of features_ has fewer than p non-zeros
+  // No gathered entry sqrt(w_i) kappa is zero (no zero in the table, no underflow):
+  // the BRM right-hand side's counts need no indicator products.
+  bool gathered_without_zeros_ = false;
   // State of `update`: the blocks and every sample's bootstrap action for the last
   // policy (-1 for terminal samples); empty before the first call.
   PolicyBlocks cached_;

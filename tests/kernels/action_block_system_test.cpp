@@ -21,14 +21,15 @@ constexpr std::int32_t kStates = 40;
 constexpr std::int32_t kActions = 3;
 constexpr std::int32_t kCenters = 7;
 
-// Random state kernels with about a third of the entries zero (as truncated kernels).
-SparseRowMatrix random_state_kernels(RandomStream& rng) {
+// Random state kernels with about a third of the entries zero (as truncated
+// kernels), or none (`dense`: as untruncated kernels, every entry non-zero).
+SparseRowMatrix random_state_kernels(RandomStream& rng, bool dense = false) {
   SparseRowMatrix kernels(kStates, kCenters);
   std::vector<Eigen::Triplet<double>> entries;
   for (std::int32_t s = 0; s < kStates; ++s) {
     for (std::int32_t j = 0; j < kCenters; ++j) {
-      if (rng.uniform() < 0.35) continue;
-      entries.emplace_back(s, j, rng.uniform());
+      if (!dense && rng.uniform() < 0.35) continue;
+      entries.emplace_back(s, j, 0.01 + rng.uniform());
     }
   }
   kernels.setFromTriplets(entries.begin(), entries.end());
@@ -110,14 +111,18 @@ TEST_P(ActionBlockSystemTest, EqualsTheDefinitionForEveryPolicy) {
 // update() against the full rebuild: policies that change a few states at a time
 // (rank-r updates), one that changes most (a rebuild, bit for bit as assemble), and
 // policies that empty whole (a_i, b_i) groups (their blocks back to exact zeros).
+// Tables with zeros (entry counts kept) and the dense copy table (no zero anywhere:
+// BRM's right-hand side counts its non-zero rewards per group instead).
 TEST_P(ActionBlockSystemTest, UpdateEqualsTheFullRebuild) {
   RandomStream rng(37, 0, 0);
   const SparseRowMatrix state_kernels = random_state_kernels(rng);
+  const SparseRowMatrix dense_kernels = random_state_kernels(rng, true);
   const SampleBatch batch = random_samples(rng, 300);
   const EmpiricalTransitionModel model(kStates, kActions, batch.states, batch.actions,
                                        batch.next_states, batch.weights);
   for (const SparseRowMatrix& features :
-       {copy_basis(state_kernels, kActions), shift_basis(state_kernels, kActions, model)}) {
+       {copy_basis(state_kernels, kActions), shift_basis(state_kernels, kActions, model),
+        copy_basis(dense_kernels, kActions)}) {
     ActionBlockSystem system(features, kActions, batch, GetParam(), 0.9);
     std::vector<std::int32_t> policy(kStates, 0);
     Eigen::MatrixXd a, full_a;
