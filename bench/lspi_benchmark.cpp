@@ -16,6 +16,7 @@
 
 #include "bench/grid_graphs.hpp"
 #include "kernels/action_block_system.hpp"
+#include "kernels/blas_runtime.hpp"
 #include "kernels/copy_basis_greedy.hpp"
 #include "kernels/dense_solvers.hpp"
 #include "kernels/gaussian_kernels.hpp"
@@ -240,6 +241,63 @@ void BM_CopyBasisGreedy(benchmark::State& state, kernels::GreedyInstructions ins
                      ? "avx2"
                      : "portable");
 }
+
+// The limit of the dominant kernel (bench/README.md, "Limits"): one full BRM
+// rebuild (ActionBlockSystem::assemble, what every iteration of a Khepera PVF BRM
+// fit does) at the Khepera's shapes: 20,000 samples over 20,200 readings, 4
+// actions, a dense copy table of p columns, a random policy. Counter GFlops:
+// 3 n p^2 flops (C blocks 2 n p^2 by GEMM, E blocks n p^2 by SYRK) per second.
+void BM_BrmRebuild(benchmark::State& state) {
+  const auto p = static_cast<Eigen::Index>(state.range(0));
+  constexpr std::int32_t kReadings = 20200, kSamples = 20000;
+  kernels::RandomStream rng(17, 0, 0);
+  kernels::RowMatrixXd dense(kReadings, p);
+  for (Eigen::Index e = 0; e < dense.size(); ++e) dense.data()[e] = rng.uniform(-1, 1);
+  const kernels::SparseRowMatrix table = dense.sparseView();
+  kernels::SampleBatch samples;
+  for (std::int32_t i = 0; i < kSamples; ++i) {
+    samples.add(i, static_cast<std::int32_t>(rng.uniform_index(kActions)), rng.uniform(), i + 1,
+                false);
+  }
+  std::vector<std::int32_t> policy(kReadings);
+  for (std::int32_t& action : policy) {
+    action = static_cast<std::int32_t>(rng.uniform_index(kActions));
+  }
+  const kernels::ActionBlockSystem system(kernels::ActionBlockSystem::copy_basis_tag, table,
+                                          kActions, samples, kernels::LspiSolver::brm, 0.9);
+  Eigen::MatrixXd a;
+  Eigen::VectorXd b;
+  for (auto _ : state) {
+    system.assemble(policy, a, b);
+    benchmark::DoNotOptimize(a.data());
+  }
+  state.counters["GFlops"] = benchmark::Counter(3.0 * kSamples * static_cast<double>(p * p) / 1e9,
+                                                benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_BrmRebuild)
+    ->ArgName("p")
+    ->Arg(10)
+    ->Arg(50)
+    ->Arg(100)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The machine's dense peak through the same BLAS and thread setting: one 1,024 x
+// 1,024 GEMM (2 n^3 flops), counter GFlops.
+void BM_DgemmPeak(benchmark::State& state) {
+  constexpr Eigen::Index kSize = 1024;
+  kernels::use_calling_thread_blas();
+  const Eigen::MatrixXd x = Eigen::MatrixXd::Random(kSize, kSize);
+  const Eigen::MatrixXd y = Eigen::MatrixXd::Random(kSize, kSize);
+  Eigen::MatrixXd z(kSize, kSize);
+  for (auto _ : state) {
+    z.noalias() = x * y;
+    benchmark::DoNotOptimize(z.data());
+  }
+  state.counters["GFlops"] = benchmark::Counter(2.0 * kSize * kSize * kSize / 1e9,
+                                                benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_DgemmPeak)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Registered with named values (solver:brm, not solver:0): the case
 // k = 400 with truncated kernels, and the arm's largest, k = 800 untruncated.
