@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "engine/job/sweep.hpp"
+#include "engine/tasks/pvf_basis.hpp"
 #include "sims/khepera/khepera.hpp"
 
 namespace ggk::engine {
@@ -50,6 +51,23 @@ RunMemoryEstimate estimate_khepera_run(const KheperaTaskConfig& config, const Jo
   estimate.add("the geodesic distances from " + count_text(max_kernels) + " centres to " +
                    count_text(units) + " units",
                max_kernels * units * 8.0);
+  // The proto-value functions (pvf_basis.hpp): per "pvf" kernel count P its
+  // eigenvectors over the units (and the eigensolve's copy of them), the Lanczos
+  // basis while it runs (at most 2 P + 20 vectors), the Laplacian (an entry per
+  // arc and unit) and CHOLMOD's factor (taken as ten times the Laplacian's
+  // entries). A fit reads its count's vectors through one row per unit.
+  double pvf_vectors = 0.0, largest_count = 0.0;
+  for (const std::int32_t count :
+       pvf_counts(points, static_cast<std::int32_t>(std::min<double>(units, 2147483647.0)))) {
+    pvf_vectors += count;
+    largest_count = std::max<double>(largest_count, count);
+  }
+  if (pvf_vectors > 0.0) {
+    estimate.add("the proto-value functions (" + count_text(pvf_vectors) + " eigenvectors of " +
+                     count_text(units) + " units)",
+                 units * (2.0 * pvf_vectors + 2.0 * largest_count + 20.0) * 8.0 +
+                     11.0 * (2.0 * n + units) * 12.0);
+  }
   // The kernel gap's two distance rows (a double per reading each) per centre in
   // flight while its per-centre sums are formed (two: one per thread of -j 2).
   estimate.add("the kernel gap's distance rows (" + count_text(readings) + " readings)",

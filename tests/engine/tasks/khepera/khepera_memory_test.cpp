@@ -2,6 +2,7 @@
 // 40000 x 40000 SOM (issue 13, item 10) is estimated at far over 10 GB, finite;
 // and the estimate is no less than what a run's record holds.
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -26,13 +27,15 @@ struct KheperaJob {
   std::string som = "rows = 4\ncols = 5";
   long long test_max_steps = 30;
   std::string scheme;  // [basis] scheme; the default when empty
+  std::string basis = "[\"ggk\", \"ogk\"]";
 };
 
 JobSpec parse(const KheperaJob& k) {
   const std::string text =
       "name = \"k\"\ntask = \"khepera\"\nruns = 1\nseed = 7\n[sweep]\n"
-      "kernels = " +
-      k.kernels + "\nsigma = [1000.0]\n[khepera]\nseries = " + std::to_string(k.series) +
+      "basis = " +
+      k.basis + "\nkernels = " + k.kernels +
+      "\nsigma = [1000.0]\n[khepera]\nseries = " + std::to_string(k.series) +
       "\nsteps_per_series = " + std::to_string(k.steps) +
       "\ntest_max_steps = " + std::to_string(k.test_max_steps) +
       "\ntest_episodes = 2\n[khepera.som]\n" + k.som +
@@ -73,6 +76,20 @@ TEST(KheperaMemory, GrowsWithWalksSomAndKernels) {
   k = base;
   k.kernels = "[5, 20]";
   EXPECT_GT(estimate(k).fit_bytes(), estimate(base).fit_bytes());
+  // The proto-value functions: their eigenvectors per kernel count, over the units.
+  const RunMemoryEstimate without_pvf = estimate(base);
+  EXPECT_EQ(std::count_if(without_pvf.items.begin(), without_pvf.items.end(),
+                          [](const MemoryItem& item) {
+                            return item.what.find("proto-value") != std::string::npos;
+                          }),
+            0);
+  k = base;
+  k.basis = "[\"ggk\", \"pvf\"]";
+  const double with_pvf = item_naming(estimate(k), "proto-value functions (15 eigenvectors").bytes;
+  EXPECT_GT(with_pvf, 20.0 * 15 * 8);
+  EXPECT_GT(estimate(k).peak(1), peak);
+  k.kernels = "[5, 10, 20]";
+  EXPECT_GT(item_naming(estimate(k), "proto-value functions (35 eigenvectors").bytes, with_pvf);
   k = base;
   k.test_max_steps = 3000;
   EXPECT_GT(estimate(k).record_bytes, estimate(base).record_bytes);
