@@ -16,11 +16,12 @@ A claim that has no number (a figure the paper shows and describes) says so.
 
   /usr/bin/python3 results/claims.py [--results DIR | FILE ...] [--readme README.md]
 
-Files are recognised by what they hold, not by name: the arm's task, and the
-Khepera's task with its rotation step (khepera.motion.turn_deg: 15 is the
+Files are recognised by what they hold, not by name: the maze's task (ggk's
+addition, the GGK papers' artificial task: rows only where a maze file is given),
+the arm's task, and the Khepera's task with its rotation step (khepera.motion.turn_deg: 15 is the
 paper's job, 30 and 45 the rotation-step study: one file holds a step per run
 configuration, jobs/khepera-study.toml). With --results DIR (default results/)
-the paper's files arm-paper.h5, khepera-paper.h5 and khepera-study.h5 are used
+the paper's files maze.h5, arm-paper.h5, khepera-paper.h5 and khepera-study.h5 are used
 where present (khepera-paper.h5 first for 15 degrees), and any other .h5 file there for
 a role none of them fills (e.g. out/quick/ of scripts/reproduce.sh --quick);
 two files for one role are an error (exit 2) naming both. A file whose job has
@@ -44,6 +45,7 @@ import ggk_results  # noqa: E402
 
 # The roles of the claims table, the paper's file for each, and the job that makes it.
 PAPER_FILES = {
+    "maze": ("maze.h5", "jobs/maze.toml"),
     "arm": ("arm-paper.h5", "jobs/arm-paper.toml"),
     "khepera-15": ("khepera-paper.h5", "jobs/khepera-paper.toml"),
     "khepera-30": ("khepera-study.h5", "jobs/khepera-study.toml"),
@@ -63,8 +65,8 @@ def roles_of(results):
     one per rotation step of a study whose axis it is (jobs/khepera-study.toml),
     each the rows of that step."""
     frame = results.summary()
-    if results.task == "arm":
-        return [("arm", frame)]
+    if results.task in ("maze", "arm"):
+        return [(results.task, frame)]
     if results.task != "khepera":
         return []
     if TURN_AXIS in frame.columns:
@@ -228,6 +230,22 @@ def solvers_of(frame):
     return [s for s in ("brm", "lstdq") if (frame.solver == s).any()]
 
 
+def maze_rows(maze):
+    rows = []
+    for solver in solvers_of(maze):
+        points = paired_points(maze, "success_rate", solver)
+        rows.append((
+            f"Maze: success vs kernels, {solver.upper()} (ggk's addition: the GGK papers' "
+            "artificial task, the four-rooms map of jobs/maze.toml)",
+            "GGKs outperform OGKs (the GGK papers' maze experiments; not in this paper's text)",
+            "success from every free cell, " + describe(points, 100, " %"),
+            verdict(points),
+        ))
+    rows += pvf_rows(maze, "Maze", "success_rate", "success from every free cell",
+                     solvers_of(maze), 100, " %")
+    return rows
+
+
 def khepera_rows(khepera):
     rows = [(
         "Khepera: policies differ at region C (Fig. 5)",
@@ -267,6 +285,8 @@ def rotation_rows(study, degrees):
 
 def claims_table(roles):
     rows = []
+    if "maze" in roles:  # not one of the paper's claims: no row when no file gives it
+        rows += maze_rows(roles["maze"])
     if "arm" in roles:
         rows += arm_rows(roles["arm"])
     else:

@@ -86,6 +86,34 @@ class Claims(Scratch):
                           f"{100 * best.a:.3g} % vs {100 * best.b:.3g} %", row)
             self.assertRegex(row, rf"\| {a.upper()} (ahead|partly ahead|not ahead) \|$")
 
+    def test_rows_of_a_maze_file(self):
+        # No maze file: no maze row (the maze is not one of the paper's claims).
+        self.assertNotIn("Maze", claims("--results", self.quick).stdout)
+        made = run_ggk("run", support.SOURCE / "jobs/maze.toml", "-q", "--set", "runs=4",
+                       "--set", "sweep.kernels=[8,24]", "-o", self.quick / "maze-small.h5")
+        self.assertEqual(made.returncode, 0, made.stderr)
+        result = claims("--results", self.quick)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        rows = {line.split(" | ")[0]: line for line in result.stdout.splitlines()}
+        frame = ggk_results.open_results(self.quick / "maze-small.h5").summary()
+        for solver in ("brm", "lstdq"):
+            row = rows[f"| Maze: success vs kernels, {solver.upper()} (ggk's addition: the GGK "
+                       "papers' artificial task, the four-rooms map of jobs/maze.toml)"]
+            points = ggk_results.paired(frame[frame.solver == solver], "success_rate")
+            best = points.loc[points.difference.idxmax()]
+            self.assertIn(f"best for GGK: {int(best.kernels)} kernels "
+                          f"{100 * best.a:.3g} % vs {100 * best.b:.3g} %", row)
+            for a, b in (("ggk", "pvf"), ("pvf", "ogk")):
+                self.assertIn(f"| Maze: {a.upper()} vs {b.upper()} ({solver.upper()}; ggk's "
+                              "third basis, proto-value functions)", rows)
+        # A second maze file is a second file for one role; maze.h5 is the paper's name.
+        shutil.copy(self.quick / "maze-small.h5", self.quick / "maze-again.h5")
+        refused = claims("--results", self.quick)
+        self.assertEqual(refused.returncode, 2)
+        self.assertIn("both hold maze results", refused.stderr)
+        shutil.copy(self.quick / "maze-small.h5", self.quick / "maze.h5")
+        self.assertEqual(claims("--results", self.quick).returncode, 0)
+
 
 if __name__ == "__main__":
     unittest.main()
