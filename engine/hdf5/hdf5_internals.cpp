@@ -3,6 +3,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
 namespace ggk::engine::hdf5_internals {
@@ -151,19 +152,26 @@ Lookup look_up(const Context& where, const std::string& path) {
   if (path == "/") return {true, ""};
   // H5Lexists only looks at the last component and fails when a parent is
   // missing, so walk the path one component at a time; every parent must be a
-  // group.
+  // group. Each component is looked up in its parent, held open, so a path of L
+  // components costs L lookups, not the L^2 / 2 of looking up every prefix from
+  // the root.
+  std::optional<Handle> parent;  // the group walked so far; none: the root (where.file)
   std::size_t end = 0;
   while (end != std::string::npos) {
-    end = path.find('/', end + 1);
-    const std::string prefix = path.substr(0, end);
-    if (prefix.back() == '/') continue;  // "//" in the path
-    const htri_t found = H5Lexists(where.file, prefix.c_str(), H5P_DEFAULT);
-    if (found < 0) throw_hdf5_error(where.file_path, "look up", prefix);
+    const std::size_t begin = end + 1;
+    end = path.find('/', begin);
+    if (end == begin) continue;  // "//" in the path
+    const std::string component = path.substr(begin, end == std::string::npos ? end : end - begin);
+    const hid_t within = parent ? parent->get() : where.file;
+    const htri_t found = H5Lexists(within, component.c_str(), H5P_DEFAULT);
+    if (found < 0) throw_hdf5_error(where.file_path, "look up", path.substr(0, end));
     if (found == 0) return {false, ""};
     if (end != std::string::npos) {
-      const Handle object = checked(H5Oopen(where.file, prefix.c_str(), H5P_DEFAULT), H5Oclose,
-                                    where, "open", prefix);
+      const std::string prefix = path.substr(0, end);
+      Handle object =
+          checked(H5Oopen(within, component.c_str(), H5P_DEFAULT), H5Oclose, where, "open", prefix);
       if (H5Iget_type(object.get()) != H5I_GROUP) return {false, prefix};
+      parent.emplace(std::move(object));
     }
   }
   return {true, ""};

@@ -447,6 +447,8 @@ TEST_F(Hdf5FileTest, ExistsChecksEveryComponent) {
   EXPECT_TRUE(file.exists("/a/b/c/"));
   EXPECT_FALSE(file.exists("/a/b/c/d"));
   EXPECT_FALSE(file.exists("/a/x/c"));
+  EXPECT_TRUE(file.exists("/a//b/c"));  // an empty component is skipped
+  EXPECT_FALSE(file.exists("/a//x"));
 }
 
 TEST_F(Hdf5FileTest, RemoveDiscardsAGroupWhichCanThenBeRecreated) {
