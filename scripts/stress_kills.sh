@@ -143,7 +143,10 @@ mpi_kills() {
     0) what="SIGINT to mpirun"; kill -s INT $pid 2>/dev/null || true ;;
     1) what="SIGTERM to mpirun"; kill -s TERM $pid 2>/dev/null || true ;;
     *)
-      rank=$(pgrep -f "$ggk run $scratch/job.toml -j 1 -q -o $out" | shuf -n 1 || true)
+      # A rank's command line starts with ggk's; mpirun's holds the same words
+      # after its options: anchored, so the kill goes to a rank, never to mpirun
+      # (whose ranks, orphaned, would run on holding the output's lock).
+      rank=$(pgrep -f "^$ggk run $scratch/job.toml -j 1 -q -o $out" | shuf -n 1 || true)
       what="SIGKILL to rank process ${rank:-none}"
       [ -n "$rank" ] && kill -s KILL "$rank" 2>/dev/null || true
       ;;
