@@ -16,6 +16,7 @@
 
 #include "bench/grid_graphs.hpp"
 #include "kernels/action_block_system.hpp"
+#include "kernels/avx2_dispatch.hpp"
 #include "kernels/blas_runtime.hpp"
 #include "kernels/copy_basis_greedy.hpp"
 #include "kernels/dense_solvers.hpp"
@@ -236,8 +237,7 @@ void BM_CopyBasisGreedy(benchmark::State& state, kernels::GreedyInstructions ins
     benchmark::DoNotOptimize(policy.data());
   }
   state.counters["MB_values"] = static_cast<double>(table.nonZeros()) * 8.0 / 1e6;
-  state.SetLabel(instructions == kernels::GreedyInstructions::automatic &&
-                         kernels::greedy_uses_avx2()
+  state.SetLabel(instructions == kernels::GreedyInstructions::automatic && kernels::cpu_has_avx2()
                      ? "avx2"
                      : "portable");
 }

@@ -2,14 +2,36 @@
 
 #include <algorithm>
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define GGK_GREEDY_AVX2 1
-#include <immintrin.h>
-#endif
+#include "kernels/avx2_dispatch.hpp"
 
 namespace ggk::kernels {
 
 namespace {
+
+// The greedy action of Q values q[0 .. m): the first largest (ties to the lowest
+// action).
+inline std::int32_t first_best(const double* q, std::int32_t m) {
+  std::int32_t best = 0;
+  for (std::int32_t a = 1; a < m; ++a) {
+    if (q[a] > q[best]) best = a;
+  }
+  return best;
+}
+
+// Points v[b] at the values of state first + b's row, b < kLanes; true when every
+// one of those rows is dense (p entries, columns 0 .. p - 1 in order).
+template <std::size_t kLanes>
+bool dense_block(const SparseRowMatrix& kernels, Eigen::Index row_step, std::size_t first,
+                 std::int64_t p, const double* (&v)[kLanes]) {
+  const auto* outer = kernels.outerIndexPtr();
+  bool dense = true;
+  for (std::size_t b = 0; b < kLanes; ++b) {
+    const auto row = static_cast<Eigen::Index>(first + b) * row_step;
+    dense = dense && outer[row + 1] - outer[row] == p;
+    v[b] = kernels.valuePtr() + outer[row];
+  }
+  return dense;
+}
 
 // The greedy actions of states [first, last), one state at a time, for m =
 // kActions actions (any m when kActions is 0). A fixed-size local array stays in
@@ -33,11 +55,7 @@ void copy_greedy_states(const SparseRowMatrix& kernels, Eigen::Index row_step,
       const double* w = by_center.data() + static_cast<std::size_t>(inner[e]) * m;
       for (std::int32_t a = 0; a < m; ++a) q[a] += v * w[a];
     }
-    std::int32_t best = 0;
-    for (std::int32_t a = 1; a < m; ++a) {
-      if (q[a] > q[best]) best = a;
-    }
-    policy[s] = best;
+    policy[s] = first_best(q, m);
   }
 }
 
@@ -52,18 +70,10 @@ void copy_greedy_rows(const SparseRowMatrix& kernels, Eigen::Index row_step,
   std::size_t s = 0;
   if constexpr (kActions > 0) {
     const auto p = static_cast<std::int64_t>(by_center.size()) / kActions;
-    const auto* outer = kernels.outerIndexPtr();
-    const double* values = kernels.valuePtr();
     constexpr std::size_t kLanes = 4;
     for (; s + kLanes <= policy.size(); s += kLanes) {
       const double* v[kLanes];
-      bool dense = true;
-      for (std::size_t b = 0; b < kLanes; ++b) {
-        const auto row = static_cast<Eigen::Index>(s + b) * row_step;
-        dense = dense && outer[row + 1] - outer[row] == p;
-        v[b] = values + outer[row];
-      }
-      if (!dense) {
+      if (!dense_block(kernels, row_step, s, p, v)) {
         copy_greedy_states<kActions>(kernels, row_step, num_actions, by_center, policy, s,
                                      s + kLanes);
         continue;
@@ -75,19 +85,13 @@ void copy_greedy_rows(const SparseRowMatrix& kernels, Eigen::Index row_step,
           for (std::int32_t a = 0; a < kActions; ++a) q[b][a] += v[b][j] * w[a];
         }
       }
-      for (std::size_t b = 0; b < kLanes; ++b) {
-        std::int32_t best = 0;
-        for (std::int32_t a = 1; a < kActions; ++a) {
-          if (q[b][a] > q[b][best]) best = a;
-        }
-        policy[s + b] = best;
-      }
+      for (std::size_t b = 0; b < kLanes; ++b) policy[s + b] = first_best(q[b], kActions);
     }
   }
   copy_greedy_states<kActions>(kernels, row_step, num_actions, by_center, policy, s, policy.size());
 }
 
-#if GGK_GREEDY_AVX2
+#if GGK_AVX2_DISPATCH
 // The AVX2 path for four actions: eight states at a time where all eight rows are
 // dense (p entries, columns 0 .. p - 1 in order), one 256-bit lane per action, a
 // multiply then an add per entry (the target has no FMA, so none is fused): each
@@ -99,18 +103,10 @@ __attribute__((target("avx2"))) void copy_greedy_rows_avx2(const SparseRowMatrix
                                                            std::vector<std::int32_t>& policy) {
   constexpr std::size_t kLanes = 8;
   const auto p = static_cast<std::int64_t>(by_center.size()) / 4;
-  const auto* outer = kernels.outerIndexPtr();
-  const double* values = kernels.valuePtr();
   std::size_t s = 0;
   for (; s + kLanes <= policy.size(); s += kLanes) {
     const double* v[kLanes];
-    bool dense = true;
-    for (std::size_t b = 0; b < kLanes; ++b) {
-      const auto row = static_cast<Eigen::Index>(s + b) * row_step;
-      dense = dense && outer[row + 1] - outer[row] == p;
-      v[b] = values + outer[row];
-    }
-    if (!dense) {
+    if (!dense_block(kernels, row_step, s, p, v)) {
       copy_greedy_states<4>(kernels, row_step, 4, by_center, policy, s, s + kLanes);
       continue;
     }
@@ -125,11 +121,7 @@ __attribute__((target("avx2"))) void copy_greedy_rows_avx2(const SparseRowMatrix
     for (std::size_t b = 0; b < kLanes; ++b) {
       alignas(32) double lane[4];
       _mm256_store_pd(lane, q[b]);
-      std::int32_t best = 0;
-      for (std::int32_t a = 1; a < 4; ++a) {
-        if (lane[a] > lane[best]) best = a;
-      }
-      policy[s + b] = best;
+      policy[s + b] = first_best(lane, 4);
     }
   }
   copy_greedy_states<4>(kernels, row_step, 4, by_center, policy, s, policy.size());
@@ -137,15 +129,6 @@ __attribute__((target("avx2"))) void copy_greedy_rows_avx2(const SparseRowMatrix
 #endif
 
 }  // namespace
-
-bool greedy_uses_avx2() {
-#if GGK_GREEDY_AVX2
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
-#else
-  return false;
-#endif
-}
 
 // The weights are read centre-major (w[a p + j] at j m + a) so one entry serves
 // all actions.
@@ -165,8 +148,8 @@ std::vector<std::int32_t> copy_greedy(const SparseRowMatrix& kernels, Eigen::Ind
       copy_greedy_rows<2>(kernels, row_step, num_actions, by_center, policy);
       break;
     case 4:
-#if GGK_GREEDY_AVX2
-      if (instructions == GreedyInstructions::automatic && greedy_uses_avx2()) {
+#if GGK_AVX2_DISPATCH
+      if (instructions == GreedyInstructions::automatic && cpu_has_avx2()) {
         copy_greedy_rows_avx2(kernels, row_step, by_center, policy);
         break;
       }

@@ -13,7 +13,8 @@
 // multiplies and adds, one lane per action (bench/lspi_benchmark.cpp,
 // BM_CopyBasisGreedy, measures both paths). Lane arithmetic is the same IEEE
 // multiply and add as the portable path's, so the two give the same bits; the
-// path is chosen at run time (the CPU's flags), never by the build.
+// path is chosen at run time (the CPU's flags, kernels/avx2_dispatch.hpp), never
+// by the build.
 //
 // Thread-safety: reentrant.
 
@@ -24,7 +25,8 @@
 
 namespace ggk::kernels {
 
-// automatic: the AVX2 path where the CPU has it (and m = 4), else the portable one.
+// automatic: the AVX2 path where the CPU has it (cpu_has_avx2) and m = 4, else the
+// portable one.
 enum class GreedyInstructions { automatic, portable };
 
 // The greedy action per state (kernels.rows() / row_step states), kernels
@@ -33,8 +35,5 @@ std::vector<std::int32_t> copy_greedy(
     const SparseRowMatrix& kernels, Eigen::Index row_step, Eigen::Index p, std::int32_t num_actions,
     const Eigen::VectorXd& weights,
     GreedyInstructions instructions = GreedyInstructions::automatic);
-
-// True when copy_greedy's automatic choice takes the AVX2 path for 4 actions.
-bool greedy_uses_avx2();
 
 }  // namespace ggk::kernels

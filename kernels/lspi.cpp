@@ -208,20 +208,6 @@ std::vector<std::int32_t> copy_layout_greedy_policy(const SparseRowMatrix& featu
   return copy_greedy(features, num_actions, features.cols() / num_actions, num_actions, weights);
 }
 
-std::vector<std::int32_t> copy_basis_greedy_policy(const SparseRowMatrix& state_kernels,
-                                                   std::int32_t num_actions,
-                                                   const Eigen::VectorXd& weights) {
-  if (!state_kernels.isCompressed()) {
-    throw std::invalid_argument("copy_basis_greedy_policy: the state kernels must be compressed");
-  }
-  if (num_actions <= 0 || weights.size() != state_kernels.cols() * num_actions) {
-    throw std::invalid_argument("copy_basis_greedy_policy: " + std::to_string(weights.size()) +
-                                " weights for " + std::to_string(state_kernels.cols()) +
-                                " kernels and " + std::to_string(num_actions) + " actions");
-  }
-  return copy_greedy(state_kernels, 1, state_kernels.cols(), num_actions, weights);
-}
-
 Eigen::VectorXd action_values(const SparseRowMatrix& features, const Eigen::VectorXd& weights) {
   return features * weights;
 }
@@ -263,6 +249,15 @@ std::vector<std::int32_t> sample_state_flags(std::size_t num_states, const Sampl
     if (!samples.terminals[i]) on_samples[static_cast<std::size_t>(samples.next_states[i])] = 1;
   }
   return on_samples;
+}
+
+// `kernels` itself when compressed, else a compressed copy in `storage`
+// (copy_greedy reads the compressed arrays).
+const SparseRowMatrix& compressed(const SparseRowMatrix& kernels, SparseRowMatrix& storage) {
+  if (kernels.isCompressed()) return kernels;
+  storage = kernels;
+  storage.makeCompressed();
+  return storage;
 }
 
 // Policy iteration over an assembled system; `greedy(w)` is the greedy policy of
@@ -370,12 +365,8 @@ LspiResult fit_lspi_copy_basis(const SparseRowMatrix& state_kernels, std::int32_
                                const SampleBatch& samples, const LspiOptions& options) {
   check_options(num_actions, options);
   samples.validate(static_cast<std::int32_t>(state_kernels.rows()), num_actions);
-  SparseRowMatrix compressed;  // copy_greedy reads the compressed arrays
-  if (!state_kernels.isCompressed()) {
-    compressed = state_kernels;
-    compressed.makeCompressed();
-  }
-  const SparseRowMatrix& kernels = state_kernels.isCompressed() ? state_kernels : compressed;
+  SparseRowMatrix storage;
+  const SparseRowMatrix& kernels = compressed(state_kernels, storage);
   const auto num_states = static_cast<std::size_t>(kernels.rows());
   ActionBlockSystem system(ActionBlockSystem::copy_basis_tag, kernels, num_actions, samples,
                            options.solver, options.gamma);
@@ -411,12 +402,8 @@ LspiResult fit_lspi_copy_basis(const SparseRowMatrix& row_kernels,
                                 std::to_string(unused - used.begin()) +
                                 " of the kernels belongs to no state");
   }
-  SparseRowMatrix compressed;  // copy_greedy reads the compressed arrays
-  if (!row_kernels.isCompressed()) {
-    compressed = row_kernels;
-    compressed.makeCompressed();
-  }
-  const SparseRowMatrix& kernels = row_kernels.isCompressed() ? row_kernels : compressed;
+  SparseRowMatrix storage;
+  const SparseRowMatrix& kernels = compressed(row_kernels, storage);
   // The samples in the rows' terms, in their order: every product and sum of the
   // system is the expanded table's, term by term.
   SampleBatch by_row = samples;

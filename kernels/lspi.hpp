@@ -157,13 +157,6 @@ std::vector<std::int32_t> copy_layout_greedy_policy(const SparseRowMatrix& featu
                                                     std::int32_t num_actions,
                                                     const Eigen::VectorXd& weights);
 
-// greedy_policy for the copy basis of `state_kernels` (N x p, compressed),
-// reading the state kernels alone: the policy is bit for bit greedy_policy's on
-// copy_basis(state_kernels, num_actions). fit_lspi_copy_basis uses it.
-std::vector<std::int32_t> copy_basis_greedy_policy(const SparseRowMatrix& state_kernels,
-                                                   std::int32_t num_actions,
-                                                   const Eigen::VectorXd& weights);
-
 // V(s) = max_a Q(s, a) per state.
 Eigen::VectorXd state_values(const SparseRowMatrix& features, std::int32_t num_actions,
                              const Eigen::VectorXd& weights);

@@ -12,10 +12,7 @@
 #include <tbb/parallel_for.h>
 #include <Eigen/Eigenvalues>
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define GGK_SOM_AVX2 1
-#include <immintrin.h>
-#endif
+#include "kernels/avx2_dispatch.hpp"
 
 namespace ggk::kernels {
 
@@ -83,7 +80,7 @@ SquaredMatch best_match_squared(const double* x, const std::vector<double>& tabl
   return {best_unit, best};
 }
 
-#if GGK_SOM_AVX2
+#if GGK_AVX2_DISPATCH
 // best_match_squared with the tile in four 256-bit registers (the AVX2 path,
 // chosen at run time as the batch search's): per lane the same subtraction,
 // multiply and add in the same order (no FMA in the target), so the same bits;
@@ -190,7 +187,7 @@ void for_each_candidate_portable(const double* row, std::int32_t units, double l
   }
 }
 
-#if GGK_SOM_AVX2
+#if GGK_AVX2_DISPATCH
 // The same two passes four units at a time (kernels/copy_basis_greedy.hpp: the
 // AVX2 path is chosen at run time). Each score is the same IEEE multiply by 2
 // (exact) and subtraction; _mm256_min_pd(a, b) is a < b ? a : b, lane by lane, as
@@ -237,18 +234,9 @@ __attribute__((target("avx2"))) void candidate_masks_avx2(const double* row, std
 }
 #endif
 
-bool som_uses_avx2() {
-#if GGK_SOM_AVX2
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
-#else
-  return false;
-#endif
-}
-
 double scan(double* row, const double* squared_norms, std::int32_t units) {
-#if GGK_SOM_AVX2
-  if (som_uses_avx2()) return scan_avx2(row, squared_norms, units);
+#if GGK_AVX2_DISPATCH
+  if (cpu_has_avx2()) return scan_avx2(row, squared_norms, units);
 #endif
   return scan_portable(row, squared_norms, units);
 }
@@ -256,8 +244,8 @@ double scan(double* row, const double* squared_norms, std::int32_t units) {
 template <class Candidate>
 void for_each_candidate(const double* row, std::int32_t units, double limit,
                         const Candidate& candidate) {
-#if GGK_SOM_AVX2
-  if (som_uses_avx2()) {
+#if GGK_AVX2_DISPATCH
+  if (cpu_has_avx2()) {
     thread_local std::vector<std::uint8_t> masks;
     candidate_masks_avx2(row, units, limit, masks);
     for (std::size_t block = 0; block < masks.size(); ++block) {
@@ -553,8 +541,8 @@ BestMatch SelfOrganizingMap::best_matching_unit(std::span<const double> x) const
     throw std::invalid_argument("best_matching_unit: query contains NaN or infinity");
   }
   const SquaredMatch match =
-#if GGK_SOM_AVX2
-      som_uses_avx2()
+#if GGK_AVX2_DISPATCH
+      cpu_has_avx2()
           ? best_match_squared_avx2(x.data(), prototypes_by_dimension_, num_units(), dimension())
           :
 #endif

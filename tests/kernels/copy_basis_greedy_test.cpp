@@ -1,4 +1,5 @@
 #include "kernels/copy_basis_greedy.hpp"
+#include "kernels/avx2_dispatch.hpp"
 
 #include <cstdint>
 #include <vector>
@@ -49,7 +50,7 @@ Eigen::VectorXd near_tied_weights(RandomStream& rng, Eigen::Index p, std::int32_
 // Both instruction paths give greedy_policy's policy on the copy table, bit for bit,
 // for 2, 3 and 4 actions (the AVX2 path serves 4; the others check the dispatch).
 TEST(CopyBasisGreedy, EveryPathEqualsTheSparseProduct) {
-  RecordProperty("avx2", greedy_uses_avx2() ? "yes" : "no");
+  RecordProperty("avx2", cpu_has_avx2() ? "yes" : "no");
   RandomStream rng(43, 0, 0);
   for (const std::int32_t actions : {2, 3, 4}) {
     for (const Eigen::Index p : {1, 7, 16, 33}) {
@@ -68,20 +69,6 @@ TEST(CopyBasisGreedy, EveryPathEqualsTheSparseProduct) {
       }
     }
   }
-}
-
-// The public entry point checks its shapes.
-TEST(CopyBasisGreedy, PublicEntryChecksItsInputs) {
-  RandomStream rng(44, 0, 0);
-  const SparseRowMatrix kernels = mixed_table(rng, 20, 5);
-  EXPECT_THROW(copy_basis_greedy_policy(kernels, 4, Eigen::VectorXd::Zero(19)),
-               std::invalid_argument);
-  SparseRowMatrix uncompressed = kernels;
-  uncompressed.uncompress();
-  EXPECT_THROW(copy_basis_greedy_policy(uncompressed, 4, Eigen::VectorXd::Zero(20)),
-               std::invalid_argument);
-  EXPECT_EQ(copy_basis_greedy_policy(kernels, 4, Eigen::VectorXd::Zero(20)),
-            std::vector<std::int32_t>(20, 0));
 }
 
 }  // namespace
