@@ -241,6 +241,45 @@ class Hdf5File {
   // Shape of the dataset at path (empty for a scalar dataset).
   std::vector<std::int64_t> dataset_shape(std::string_view path) const;
 
+  // An object held open, for walks over a whole tree that read or describe every
+  // part of it (a run's digest, its datasets' descriptions): its members,
+  // attributes, shape and values are reached through the open object, never by
+  // looking a path up again (every by-path call above walks its path anew, which
+  // made the walks cost most of the writer's time). Each call answers as the
+  // by-path call of the same name on path(). Valid while the file stays open.
+  class Object {
+   public:
+    Object(Object&& other) noexcept;
+    Object& operator=(Object&&) = delete;
+    Object(const Object&) = delete;
+    Object& operator=(const Object&) = delete;
+    ~Object();
+
+    const std::string& path() const { return path_; }
+    ObjectKind kind() const;
+    std::vector<std::string> member_names() const;  // a group's, sorted by name
+    // Member `name` of this group, opened; nullopt when its link is not a hard
+    // link (hard_link_address).
+    std::optional<Object> hard_member(std::string_view name) const;
+    std::vector<std::string> attribute_names() const;  // sorted by name
+    Values read_attribute_values(std::string_view name) const;
+    std::vector<std::int64_t> dataset_shape() const;
+    Values read_values(std::span<const std::string> skip_members = {}) const;
+    // As Hdf5File::write_string_attribute (the file must be open for writing).
+    void write_string_attribute(std::string_view name, std::string_view value);
+
+   private:
+    friend class Hdf5File;
+    Object(const Hdf5File& file, std::string path, std::int64_t id);
+
+    const Hdf5File* file_;
+    std::string path_;
+    std::int64_t id_;  // the hid_t of the open object; -1 once moved from
+  };
+  // The object at `path`, opened; nullopt when `path` names a soft, external or
+  // user-defined link (as hard_link_address).
+  std::optional<Object> open_hard_link(std::string_view path) const;
+
   // 1-D numeric datasets.
   void write_vector(std::string_view path, std::span<const double> values);
   void write_vector(std::string_view path, std::span<const float> values);

@@ -1,13 +1,16 @@
 // Hdf5File: walking a file (kinds, member and attribute names) and reading any
 // dataset or attribute into a canonical form (Hdf5File::Values), for tools that
-// compare or join whole files (ggk diff, ggk merge).
+// compare or join whole files (ggk diff, ggk merge), by path or through an
+// object held open (Hdf5File::Object, for walks over a whole tree).
 
 #include <hdf5.h>
 
 #include <algorithm>
 #include <cstring>
 #include <functional>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/hdf5/hdf5_file.hpp"
@@ -118,6 +121,97 @@ herr_t collect_attribute_name(hid_t, const char* name, const H5A_info_t*, void* 
   return 0;
 }
 
+// The canonical form of an open dataset's values (Hdf5File::read_values).
+Hdf5File::Values dataset_values(const Context& where, hid_t dataset, const std::string& name,
+                                std::span<const std::string> skip_members) {
+  const Handle type = checked(H5Dget_type(dataset), H5Tclose, where, "get the type of", name);
+  const Handle space = checked(H5Dget_space(dataset), H5Sclose, where, "get the shape of", name);
+  Hdf5File::Values values;
+  std::size_t count = 0;
+  values.shape = shape_of(where, space, name, count);
+  if (count == 0) {
+    values.type = describe_type(type.get());
+    return values;
+  }
+  // A damaged header can claim any size: what the dataset stores bounds what
+  // it holds (deflate packs at most 1032:1), so an impossible claim is an error
+  // here, not an allocation of terabytes.
+  const double claimed = static_cast<double>(count) * static_cast<double>(H5Tget_size(type.get()));
+  const double stored = static_cast<double>(H5Dget_storage_size(dataset));
+  if (claimed > 1100.0 * stored + 1048576.0) {
+    throw_store_error(where.file_path, name,
+                      "claims " + std::to_string(count) + " elements (" +
+                          std::to_string(static_cast<long long>(claimed)) + " bytes) but stores " +
+                          std::to_string(static_cast<long long>(stored)) +
+                          " bytes: its shape or type is damaged");
+  }
+  read_canonical(
+      where, name, type.get(), count,
+      [&](hid_t memory_type, void* buffer) {
+        check(H5Dread(dataset, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer), where,
+              "read dataset", name);
+      },
+      skip_members, values);
+  return values;
+}
+
+// The canonical form of an open attribute's values (Hdf5File::read_attribute_values);
+// `object` and `name` name it in errors.
+Hdf5File::Values attribute_values(const Context& where, hid_t attribute, const std::string& object,
+                                  const std::string& name) {
+  const Handle type = checked(H5Aget_type(attribute), H5Tclose, where,
+                              "get the type of attribute " + single_quoted(name) + " of", object);
+  const Handle space =
+      checked(H5Aget_space(attribute), H5Sclose, where,
+              "get the dataspace of attribute " + single_quoted(name) + " of", object);
+  Hdf5File::Values values;
+  std::size_t count = 0;
+  values.shape = shape_of(where, space, object, count);
+  if (count == 0) {
+    values.type = describe_type(type.get());
+    return values;
+  }
+  read_canonical(
+      where, object, type.get(), count,
+      [&](hid_t memory_type, void* buffer) {
+        check(H5Aread(attribute, memory_type, buffer), where,
+              "read attribute " + single_quoted(name) + " of", object);
+      },
+      {}, values);
+  return values;
+}
+
+Hdf5File::ObjectKind kind_of(hid_t object) {
+  switch (H5Iget_type(object)) {
+    case H5I_GROUP:
+      return Hdf5File::ObjectKind::kGroup;
+    case H5I_DATASET:
+      return Hdf5File::ObjectKind::kDataset;
+    default:
+      return Hdf5File::ObjectKind::kOther;
+  }
+}
+
+std::vector<std::string> sorted_members(const Context& where, hid_t group,
+                                        const std::string& name) {
+  std::vector<std::string> names;
+  hsize_t index = 0;
+  check(H5Literate(group, H5_INDEX_NAME, H5_ITER_INC, &index, collect_link_name, &names), where,
+        "list the members of", name);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::vector<std::string> sorted_attributes(const Context& where, hid_t object,
+                                           const std::string& name) {
+  std::vector<std::string> names;
+  hsize_t index = 0;
+  check(H5Aiterate2(object, H5_INDEX_NAME, H5_ITER_INC, &index, collect_attribute_name, &names),
+        where, "list the attributes of", name);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 }  // namespace
 
 Hdf5File::ObjectKind Hdf5File::object_kind(std::string_view path) const {
@@ -126,14 +220,7 @@ Hdf5File::ObjectKind Hdf5File::object_kind(std::string_view path) const {
   require_existing(where, name);
   const Handle object =
       checked(H5Oopen(id_, name.c_str(), H5P_DEFAULT), H5Oclose, where, "open", name);
-  switch (H5Iget_type(object.get())) {
-    case H5I_GROUP:
-      return ObjectKind::kGroup;
-    case H5I_DATASET:
-      return ObjectKind::kDataset;
-    default:
-      return ObjectKind::kOther;
-  }
+  return kind_of(object.get());
 }
 
 std::optional<std::uint64_t> Hdf5File::hard_link_address(std::string_view path) const {
@@ -156,12 +243,7 @@ std::vector<std::string> Hdf5File::member_names(std::string_view group_path) con
   require_existing(where, name);
   const Handle group =
       checked(H5Gopen2(id_, name.c_str(), H5P_DEFAULT), H5Gclose, where, "open group", name);
-  std::vector<std::string> names;
-  hsize_t index = 0;
-  check(H5Literate(group.get(), H5_INDEX_NAME, H5_ITER_INC, &index, collect_link_name, &names),
-        where, "list the members of", name);
-  std::sort(names.begin(), names.end());
-  return names;
+  return sorted_members(where, group.get(), name);
 }
 
 std::vector<std::string> Hdf5File::attribute_names(std::string_view object_path) const {
@@ -170,13 +252,7 @@ std::vector<std::string> Hdf5File::attribute_names(std::string_view object_path)
   require_existing(where, name);
   const Handle object =
       checked(H5Oopen(id_, name.c_str(), H5P_DEFAULT), H5Oclose, where, "open", name);
-  std::vector<std::string> names;
-  hsize_t index = 0;
-  check(
-      H5Aiterate2(object.get(), H5_INDEX_NAME, H5_ITER_INC, &index, collect_attribute_name, &names),
-      where, "list the attributes of", name);
-  std::sort(names.begin(), names.end());
-  return names;
+  return sorted_attributes(where, object.get(), name);
 }
 
 Hdf5File::Values Hdf5File::read_values(std::string_view dataset_path,
@@ -185,35 +261,7 @@ Hdf5File::Values Hdf5File::read_values(std::string_view dataset_path,
   const Context where{id_, path_};
   require_existing(where, name);
   const Handle dataset = open_dataset(where, name);
-  const Handle type = dataset_type(where, dataset, name);
-  const Handle space = dataset_space(where, dataset, name);
-  Values values;
-  std::size_t count = 0;
-  values.shape = shape_of(where, space, name, count);
-  if (count == 0) {
-    values.type = describe_type(type.get());
-    return values;
-  }
-  // A damaged header can claim any size: what the dataset stores bounds what
-  // it holds (deflate packs at most 1032:1), so an impossible claim is an error
-  // here, not an allocation of terabytes.
-  const double claimed = static_cast<double>(count) * static_cast<double>(H5Tget_size(type.get()));
-  const double stored = static_cast<double>(H5Dget_storage_size(dataset.get()));
-  if (claimed > 1100.0 * stored + 1048576.0) {
-    throw_store_error(path_, name,
-                      "claims " + std::to_string(count) + " elements (" +
-                          std::to_string(static_cast<long long>(claimed)) + " bytes) but stores " +
-                          std::to_string(static_cast<long long>(stored)) +
-                          " bytes: its shape or type is damaged");
-  }
-  read_canonical(
-      where, name, type.get(), count,
-      [&](hid_t memory_type, void* buffer) {
-        check(H5Dread(dataset.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer), where,
-              "read dataset", name);
-      },
-      skip_members, values);
-  return values;
+  return dataset_values(where, dataset.get(), name, skip_members);
 }
 
 Hdf5File::Values Hdf5File::read_attribute_values(std::string_view object_path,
@@ -225,27 +273,100 @@ Hdf5File::Values Hdf5File::read_attribute_values(std::string_view object_path,
   const Handle attribute = checked(
       H5Aopen_by_name(id_, object.c_str(), attribute_name_text.c_str(), H5P_DEFAULT, H5P_DEFAULT),
       H5Aclose, where, "open attribute " + single_quoted(attribute_name_text) + " of", object);
-  const Handle type =
-      checked(H5Aget_type(attribute.get()), H5Tclose, where,
-              "get the type of attribute " + single_quoted(attribute_name_text) + " of", object);
-  const Handle space = checked(
-      H5Aget_space(attribute.get()), H5Sclose, where,
-      "get the dataspace of attribute " + single_quoted(attribute_name_text) + " of", object);
-  Values values;
-  std::size_t count = 0;
-  values.shape = shape_of(where, space, object, count);
-  if (count == 0) {
-    values.type = describe_type(type.get());
-    return values;
+  return attribute_values(where, attribute.get(), object, attribute_name_text);
+}
+
+// ---------------------------------------------------------------- Object
+
+Hdf5File::Object::Object(const Hdf5File& file, std::string path, std::int64_t id)
+    : file_(&file), path_(std::move(path)), id_(id) {}
+
+Hdf5File::Object::Object(Object&& other) noexcept
+    : file_(other.file_), path_(std::move(other.path_)), id_(std::exchange(other.id_, -1)) {}
+
+Hdf5File::Object::~Object() {
+  if (id_ >= 0) H5Oclose(id_);
+}
+
+std::optional<Hdf5File::Object> Hdf5File::open_hard_link(std::string_view path) const {
+  const std::string name = normalized(path, path_);
+  const Context where{id_, path_};
+  if (name != "/") {
+    require_existing(where, name);
+    H5L_info_t link{};
+    check(H5Lget_info(id_, name.c_str(), &link, H5P_DEFAULT), where, "read the link", name);
+    if (link.type != H5L_TYPE_HARD) return std::nullopt;
   }
-  read_canonical(
-      where, object, type.get(), count,
-      [&](hid_t memory_type, void* buffer) {
-        check(H5Aread(attribute.get(), memory_type, buffer), where,
-              "read attribute " + single_quoted(attribute_name_text) + " of", object);
-      },
-      {}, values);
-  return values;
+  const hid_t id = H5Oopen(id_, name.c_str(), H5P_DEFAULT);
+  if (id < 0) throw_hdf5_error(path_, "open", name);
+  return Object(*this, name, id);
+}
+
+Hdf5File::ObjectKind Hdf5File::Object::kind() const {
+  return kind_of(id_);
+}
+
+std::vector<std::string> Hdf5File::Object::member_names() const {
+  return sorted_members(Context{file_->id_, file_->path_}, id_, path_);
+}
+
+std::optional<Hdf5File::Object> Hdf5File::Object::hard_member(std::string_view name) const {
+  const Context where{file_->id_, file_->path_};
+  const std::string text(name);
+  const std::string member = join(path_, name);
+  H5L_info_t link{};
+  check(H5Lget_info(id_, text.c_str(), &link, H5P_DEFAULT), where, "read the link", member);
+  if (link.type != H5L_TYPE_HARD) return std::nullopt;
+  const hid_t id = H5Oopen(id_, text.c_str(), H5P_DEFAULT);
+  if (id < 0) throw_hdf5_error(file_->path_, "open", member);
+  return Object(*file_, member, id);
+}
+
+std::vector<std::string> Hdf5File::Object::attribute_names() const {
+  return sorted_attributes(Context{file_->id_, file_->path_}, id_, path_);
+}
+
+Hdf5File::Values Hdf5File::Object::read_attribute_values(std::string_view name) const {
+  const Context where{file_->id_, file_->path_};
+  const std::string text(name);
+  const Handle attribute = checked(H5Aopen(id_, text.c_str(), H5P_DEFAULT), H5Aclose, where,
+                                   "open attribute " + single_quoted(text) + " of", path_);
+  return attribute_values(where, attribute.get(), path_, text);
+}
+
+std::vector<std::int64_t> Hdf5File::Object::dataset_shape() const {
+  const Context where{file_->id_, file_->path_};
+  const Handle space = checked(H5Dget_space(id_), H5Sclose, where, "get the shape of", path_);
+  std::size_t count = 0;
+  return shape_of(where, space, path_, count);
+}
+
+Hdf5File::Values Hdf5File::Object::read_values(std::span<const std::string> skip_members) const {
+  return dataset_values(Context{file_->id_, file_->path_}, id_, path_, skip_members);
+}
+
+void Hdf5File::Object::write_string_attribute(std::string_view name, std::string_view value) {
+  const Context where{file_->id_, file_->path_};
+  if (file_->read_only_) throw_store_error(file_->path_, path_, "file is open read-only");
+  const std::string text_name(name);
+  const htri_t found = H5Aexists(id_, text_name.c_str());
+  if (found < 0) {
+    throw_hdf5_error(file_->path_, "look up attribute " + single_quoted(name) + " of", path_);
+  }
+  if (found > 0) {
+    throw_store_error(file_->path_, path_, "attribute " + single_quoted(name) + " already exists");
+  }
+  require_no_nul(where, path_, value);
+  const std::string text(value);
+  const char* pointer = text.c_str();
+  const Handle type = variable_string_type(where, path_);
+  const Handle space =
+      checked(H5Screate(H5S_SCALAR), H5Sclose, where, "create dataspace for", path_);
+  const Handle attribute =
+      checked(H5Acreate2(id_, text_name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+              H5Aclose, where, "create attribute " + single_quoted(name) + " of", path_);
+  check(H5Awrite(attribute.get(), type.get(), &pointer), where,
+        "write attribute " + single_quoted(name) + " of", path_);
 }
 
 }  // namespace ggk::engine

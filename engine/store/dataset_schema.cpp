@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -139,18 +140,23 @@ std::size_t rank_of(std::string_view dims) {
   return rank;
 }
 
-void describe(Hdf5File& file, const std::string& path, std::string_view dims,
-              std::string_view units, std::string_view description) {
-  file.write_string_attribute(path, "dims", dims);
-  file.write_string_attribute(path, "units", units);
-  file.write_string_attribute(path, "description", description);
+void describe(Hdf5File::Object& object, std::string_view dims, std::string_view units,
+              std::string_view description) {
+  object.write_string_attribute("dims", dims);
+  object.write_string_attribute("units", units);
+  object.write_string_attribute("description", description);
 }
 
-void describe_below(Hdf5File& file, const std::string& path, const std::string& relative) {
-  if (file.object_kind(path) == Hdf5File::ObjectKind::kGroup) {
-    for (const std::string& member : file.member_names(path)) {
-      describe_below(file, path + "/" + member,
-                     relative.empty() ? member : relative + "/" + member);
+// Describes `object` (at `relative` below the run group) and every dataset below
+// it, each object opened once through its open parent.
+void describe_below(Hdf5File::Object& object, const std::string& relative) {
+  if (object.kind() == Hdf5File::ObjectKind::kGroup) {
+    for (const std::string& member : object.member_names()) {
+      std::optional<Hdf5File::Object> child = object.hard_member(member);
+      if (!child) {
+        throw std::logic_error(object.path() + "/" + member + " is not a hard link");
+      }
+      describe_below(*child, relative.empty() ? member : relative + "/" + member);
     }
     return;
   }
@@ -159,13 +165,13 @@ void describe_below(Hdf5File& file, const std::string& path, const std::string& 
     throw std::logic_error("dataset '" + relative +
                            "' has no entry in engine/store/dataset_schema.cpp");
   }
-  const std::size_t rank = file.dataset_shape(path).size();
+  const std::size_t rank = object.dataset_shape().size();
   if (rank != rank_of(schema->dims)) {
     throw std::logic_error("dataset '" + relative + "' has " + std::to_string(rank) +
                            " dimensions, engine/store/dataset_schema.cpp names " +
                            std::string(schema->dims));
   }
-  describe(file, path, schema->dims, schema->units, schema->description);
+  describe(object, schema->dims, schema->units, schema->description);
 }
 
 }  // namespace
@@ -190,11 +196,15 @@ const DatasetSchema* dataset_schema(std::string_view relative) {
 }
 
 void describe_datasets(Hdf5File& file, const std::string& run_group) {
-  describe_below(file, run_group, "");
+  std::optional<Hdf5File::Object> group = file.open_hard_link(run_group);
+  if (!group) throw std::logic_error(run_group + " is not a hard link");
+  describe_below(*group, "");
 }
 
 void describe_table(Hdf5File& file, const std::string& path, std::string_view description) {
-  describe(file, path, "row", "", description);
+  std::optional<Hdf5File::Object> table = file.open_hard_link(path);
+  if (!table) throw std::logic_error(path + " is not a hard link");
+  describe(*table, "row", "", description);
 }
 
 std::string dataset_schema_markdown() {

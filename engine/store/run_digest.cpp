@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -39,16 +40,17 @@ bool left_out(const std::string& relative, const std::string& name) {
          (name == "complete" || name == kRunDigestAttribute || name == kMetadataDigestAttribute);
 }
 
-void add_object(const Hdf5File& file, const std::string& path, const std::string& relative,
-                int depth, DigestScope scope, Fnv1a& hash) {
-  if (depth > kMaxDepth) throw std::runtime_error(path + ": groups nested too deep");
-  if (!file.hard_link_address(path)) throw std::runtime_error(path + ": not a hard link");
+// Hashes `object` (at `relative` below the digest's group) and everything below
+// it, each object opened once through its open parent.
+void add_object(const Hdf5File::Object& object, const std::string& relative, int depth,
+                DigestScope scope, Fnv1a& hash) {
+  if (depth > kMaxDepth) throw std::runtime_error(object.path() + ": groups nested too deep");
   hash.add(relative);
-  std::vector<std::string> names = file.attribute_names(path);
+  std::vector<std::string> names = object.attribute_names();
   std::sort(names.begin(), names.end());
   for (const std::string& name : names) {
     if (left_out(relative, name)) continue;
-    const Hdf5File::Values values = file.read_attribute_values(path, name);
+    const Hdf5File::Values values = object.read_attribute_values(name);
     hash.add(name);
     hash.add(values.type);
     for (const std::int64_t extent : values.shape) hash.add(extent);
@@ -56,13 +58,13 @@ void add_object(const Hdf5File& file, const std::string& path, const std::string
     hash.add(values.bytes.data(), values.bytes.size());
     for (const std::string& text : values.strings) hash.add(text);
   }
-  switch (file.object_kind(path)) {
+  switch (object.kind()) {
     case Hdf5File::ObjectKind::kDataset: {
       hash.add("dataset");
-      for (const std::int64_t extent : file.dataset_shape(path)) hash.add(extent);
+      for (const std::int64_t extent : object.dataset_shape()) hash.add(extent);
       if (scope == DigestScope::kContent) {
         static const std::string kWallClock[] = {"fit_seconds"};  // a table's column
-        const Hdf5File::Values values = file.read_values(path, kWallClock);
+        const Hdf5File::Values values = object.read_values(kWallClock);
         hash.add(values.type);
         hash.add(static_cast<std::int64_t>(values.bytes.size()));
         hash.add(values.bytes.data(), values.bytes.size());
@@ -72,10 +74,12 @@ void add_object(const Hdf5File& file, const std::string& path, const std::string
     }
     case Hdf5File::ObjectKind::kGroup: {
       hash.add("group");
-      std::vector<std::string> members = file.member_names(path);
+      std::vector<std::string> members = object.member_names();
       std::sort(members.begin(), members.end());
       for (const std::string& member : members) {
-        add_object(file, path + "/" + member, relative + "/" + member, depth + 1, scope, hash);
+        const std::optional<Hdf5File::Object> child = object.hard_member(member);
+        if (!child) throw std::runtime_error(object.path() + "/" + member + ": not a hard link");
+        add_object(*child, relative + "/" + member, depth + 1, scope, hash);
       }
       return;
     }
@@ -89,7 +93,9 @@ void add_object(const Hdf5File& file, const std::string& path, const std::string
 
 std::uint64_t run_digest(const Hdf5File& file, const std::string& group, DigestScope scope) {
   Fnv1a hash;
-  add_object(file, group, "", 0, scope, hash);
+  const std::optional<Hdf5File::Object> object = file.open_hard_link(group);
+  if (!object) throw std::runtime_error(group + ": not a hard link");
+  add_object(*object, "", 0, scope, hash);
   return hash.value();
 }
 

@@ -1,6 +1,7 @@
 #include "engine/hdf5/hdf5_file.hpp"
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -507,6 +509,94 @@ TEST_F(Hdf5FileTest, CreateRefusesAnExistingFileUnlessTruncating) {
   EXPECT_FALSE(file.exists("x"));
   EXPECT_TRUE(contains(error_message([&] { Hdf5File::create(dir_ / "no" / "such" / "dir.h5"); }),
                        "no such directory"));
+}
+
+// Hdf5File::Object answers as the by-path calls of the same name, on every kind
+// of object a results file holds (the digest and the schema's descriptions walk
+// through it), and skips soft links as hard_link_address does.
+TEST_F(Hdf5FileTest, AnObjectHeldOpenReadsAsTheByPathCalls) {
+  {
+    auto file = Hdf5File::create(file_path());
+    file.create_group("/g/empty");
+    file.write_string_attribute("/g", "job", "name = \"maze\"");
+    file.write_int64_array_attribute("/g", "shape", std::vector<std::int64_t>{3, 4});
+    file.write_vector("/g/d", std::vector<double>{1.5, -2.0, std::nan("")});
+    file.write_double_attribute("/g/d", "scale", 0.25);
+    file.write_matrix("/g/m", 2, 3, std::vector<std::int32_t>{1, 2, 3, 4, 5, 6});
+    file.write_strings("/g/s", std::vector<std::string>{"a", "θ"});
+    file.write_vector("/g/none", std::vector<double>{});
+    file.create_table("/g/t", summary_columns(), 4);
+    file.append_rows("/g/t", std::vector<TableRow>{summary_row(1), summary_row(2)});
+  }
+  {
+    const hid_t f = H5Fopen(file_path().c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    EXPECT_GE(H5Lcreate_soft("/g/d", f, "/g/soft", H5P_DEFAULT, H5P_DEFAULT), 0);
+    H5Fclose(f);
+  }
+  const auto file = Hdf5File::open_read_only(file_path());
+  EXPECT_FALSE(file.open_hard_link("/g/soft").has_value());
+  const std::optional<Hdf5File::Object> group = file.open_hard_link("g/");
+  ASSERT_TRUE(group.has_value());
+  EXPECT_EQ(group->path(), "/g");
+  EXPECT_EQ(group->kind(), Hdf5File::ObjectKind::kGroup);
+  EXPECT_EQ(group->member_names(), file.member_names("/g"));
+  EXPECT_EQ(group->attribute_names(), (std::vector<std::string>{"job", "shape"}));
+  for (const std::string& name : group->attribute_names()) {
+    EXPECT_EQ(group->read_attribute_values(name), file.read_attribute_values("/g", name)) << name;
+  }
+  int datasets = 0;
+  for (const std::string& member : group->member_names()) {
+    const std::optional<Hdf5File::Object> object = group->hard_member(member);
+    if (member == "soft") {
+      EXPECT_FALSE(object.has_value());
+      continue;
+    }
+    ASSERT_TRUE(object.has_value()) << member;
+    const std::string path = "/g/" + member;
+    EXPECT_EQ(object->path(), path);
+    EXPECT_EQ(object->kind(), file.object_kind(path)) << member;
+    EXPECT_EQ(object->attribute_names(), file.attribute_names(path)) << member;
+    for (const std::string& name : object->attribute_names()) {
+      EXPECT_EQ(object->read_attribute_values(name), file.read_attribute_values(path, name));
+    }
+    if (object->kind() != Hdf5File::ObjectKind::kDataset) continue;
+    ++datasets;
+    EXPECT_EQ(object->dataset_shape(), file.dataset_shape(path)) << member;
+    EXPECT_EQ(object->read_values(), file.read_values(path)) << member;
+    const std::vector<std::string> skip = {"run", "status"};
+    EXPECT_EQ(object->read_values(skip), file.read_values(path, skip)) << member;
+  }
+  EXPECT_EQ(datasets, 5);
+  const Hdf5File::Values table =
+      file.open_hard_link("/g/t")->read_values(std::vector<std::string>{"status"});
+  EXPECT_EQ(table.parts.size(), 4u);  // skipping a member reads the others only
+  EXPECT_TRUE(contains(error_message([&] { group->read_attribute_values("missing"); }),
+                       "open attribute 'missing' of '/g'"));
+  EXPECT_TRUE(contains(error_message([&] { file.open_hard_link("/g/nowhere"); }),
+                       "'/g/nowhere': no such object"));
+}
+
+TEST_F(Hdf5FileTest, AnObjectHeldOpenWritesStringAttributesOnce) {
+  {
+    auto file = Hdf5File::create(file_path());
+    file.write_vector("/g/d", std::vector<double>{1.0});
+    std::optional<Hdf5File::Object> dataset = file.open_hard_link("/g/d");
+    ASSERT_TRUE(dataset.has_value());
+    dataset->write_string_attribute("units", "m/s²");
+    EXPECT_TRUE(contains(error_message([&] { dataset->write_string_attribute("units", "m"); }),
+                         "attribute 'units' already exists"));
+    EXPECT_TRUE(contains(error_message([&] {
+                           dataset->write_string_attribute("x", {"a\0b", 3});
+                         }),
+                         "NUL"));
+  }
+  auto file = Hdf5File::open_read_only(file_path());
+  EXPECT_EQ(file.read_string_attribute("/g/d", "units"), "m/s²");
+  EXPECT_EQ(file.attribute_names("/g/d"), std::vector<std::string>{"units"});
+  std::optional<Hdf5File::Object> dataset = file.open_hard_link("/g/d");
+  EXPECT_TRUE(
+      contains(error_message([&] { dataset->write_string_attribute("dims", "x"); }), "read-only"));
 }
 
 TEST_F(Hdf5FileTest, ReadOnlyFileRefusesWrites) {
