@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <stdexcept>
+#include <utility>
 
 #include "kernels/blas_runtime.hpp"
 
@@ -27,28 +30,45 @@ std::string action_block_violation(const SparseRowMatrix& features, std::int32_t
   return {};
 }
 
-ActionBlockSystem::ActionBlockSystem(const SparseRowMatrix& features, std::int32_t num_actions,
-                                     const SampleBatch& samples, LspiSolver solver, double gamma)
-    : ActionBlockSystem(features, false, num_actions, samples, solver, gamma) {}
+// Its fields are named as ActionBlockSystem's were before they were shared, so
+// that gather and weighted_rewards read as they did.
+class ActionBlockFixed {
+ public:
+  ActionBlockFixed(const SparseRowMatrix& features, bool copy_rows, std::int32_t num_actions,
+                   const SampleBatch& samples);
 
-ActionBlockSystem::ActionBlockSystem(CopyBasisTag, const SparseRowMatrix& state_kernels,
-                                     std::int32_t num_actions, const SampleBatch& samples,
-                                     LspiSolver solver, double gamma)
-    : ActionBlockSystem(state_kernels, true, num_actions, samples, solver, gamma) {}
+  // Row r of the result (a rows.size() x p view of `buffer`, grown as needed) is
+  // sqrt(w_i) kappa(s, action) for sample i = rows[r], s its start (next_state =
+  // false) or successor state.
+  Eigen::Map<Eigen::MatrixXd> gather(const std::vector<std::int32_t>& rows, bool next_state,
+                                     std::int32_t action, std::vector<double>& buffer) const;
+  // sqrt(w_i) r_i for sample i = rows[r] (a view of `buffer`).
+  Eigen::Map<Eigen::VectorXd> weighted_rewards(const std::vector<std::int32_t>& rows,
+                                               std::vector<double>& buffer) const;
 
-ActionBlockSystem::ActionBlockSystem(const SparseRowMatrix& features, bool copy_rows,
-                                     std::int32_t num_actions, const SampleBatch& samples,
-                                     LspiSolver solver, double gamma)
+  const SparseRowMatrix& features_;
+  bool copy_rows_;
+  const SampleBatch& samples_;
+  std::int32_t num_actions_;
+  Eigen::Index p_;
+  std::vector<double> sqrt_weights_;
+  std::vector<Eigen::MatrixXd> start_blocks_;
+  Eigen::VectorXd start_rhs_;
+  std::int64_t live_samples_ = 0;
+  bool table_has_zeros_ = false;
+  bool gathered_without_zeros_ = false;
+};
+
+ActionBlockFixed::ActionBlockFixed(const SparseRowMatrix& features, bool copy_rows,
+                                   std::int32_t num_actions, const SampleBatch& samples)
     : features_(features),
       copy_rows_(copy_rows),
       samples_(samples),
       num_actions_(num_actions),
       p_(copy_rows ? features.cols() : features.cols() / num_actions),
-      k_(p_ * num_actions),
-      solver_(solver),
-      gamma_(gamma),
       sqrt_weights_(samples.size()),
-      start_rhs_(Eigen::VectorXd::Zero(k_)) {
+      start_rhs_(Eigen::VectorXd::Zero(p_ * num_actions)) {
+  std::vector<double> u_buffer, reward_buffer;
   use_calling_thread_blas();
   std::vector<std::vector<std::int32_t>> by_action(static_cast<std::size_t>(num_actions));
   for (std::size_t i = 0; i < samples.size(); ++i) {
@@ -78,18 +98,84 @@ ActionBlockSystem::ActionBlockSystem(const SparseRowMatrix& features, bool copy_
   start_blocks_.reserve(by_action.size());
   for (std::int32_t a = 0; a < num_actions; ++a) {
     const std::vector<std::int32_t>& rows = by_action[static_cast<std::size_t>(a)];
-    const auto u = gather(rows, false, a, scratch_.u);
+    const auto u = gather(rows, false, a, u_buffer);
     Eigen::MatrixXd lower = Eigen::MatrixXd::Zero(p_, p_);
     lower.selfadjointView<Eigen::Lower>().rankUpdate(u.transpose());
     start_blocks_.emplace_back(lower.selfadjointView<Eigen::Lower>());
     start_rhs_.segment(a * p_, p_).noalias() =
-        u.transpose() * weighted_rewards(rows, scratch_.rewards);
+        u.transpose() * weighted_rewards(rows, reward_buffer);
   }
+}
+
+ActionBlockSystem::ActionBlockSystem(const SparseRowMatrix& features, std::int32_t num_actions,
+                                     const SampleBatch& samples, LspiSolver solver, double gamma)
+    : ActionBlockSystem(
+          std::make_shared<const ActionBlockFixed>(features, false, num_actions, samples), solver,
+          gamma) {}
+
+ActionBlockSystem::ActionBlockSystem(CopyBasisTag, const SparseRowMatrix& state_kernels,
+                                     std::int32_t num_actions, const SampleBatch& samples,
+                                     LspiSolver solver, double gamma,
+                                     std::shared_ptr<const ActionBlockFixed> shared)
+    : ActionBlockSystem(shared ? std::move(shared)
+                               : std::make_shared<const ActionBlockFixed>(state_kernels, true,
+                                                                          num_actions, samples),
+                        solver, gamma) {
+  if (&features_ != &state_kernels || &samples_ != &samples || num_actions_ != num_actions ||
+      !copy_rows_) {
+    throw std::invalid_argument(
+        "ActionBlockSystem: the shared fixed part was made for other state kernels, samples or "
+        "actions");
+  }
+}
+
+std::shared_ptr<const ActionBlockFixed> ActionBlockSystem::copy_basis_fixed(
+    const SparseRowMatrix& state_kernels, std::int32_t num_actions, const SampleBatch& samples) {
+  if (!state_kernels.isCompressed()) {
+    throw std::invalid_argument(
+        "ActionBlockSystem::copy_basis_fixed: the kernels are not compressed");
+  }
+  if (num_actions < 1) {
+    throw std::invalid_argument(
+        "ActionBlockSystem::copy_basis_fixed: " + std::to_string(num_actions) + " actions");
+  }
+  samples.validate(static_cast<std::int32_t>(state_kernels.rows()), num_actions);
+  return std::make_shared<const ActionBlockFixed>(state_kernels, true, num_actions, samples);
+}
+
+ActionBlockSystem::ActionBlockSystem(std::shared_ptr<const ActionBlockFixed> fixed,
+                                     LspiSolver solver, double gamma)
+    : fixed_(std::move(fixed)),
+      features_(fixed_->features_),
+      copy_rows_(fixed_->copy_rows_),
+      samples_(fixed_->samples_),
+      num_actions_(fixed_->num_actions_),
+      p_(fixed_->p_),
+      k_(p_ * num_actions_),
+      solver_(solver),
+      gamma_(gamma),
+      start_blocks_(fixed_->start_blocks_),
+      start_rhs_(fixed_->start_rhs_),
+      live_samples_(fixed_->live_samples_),
+      table_has_zeros_(fixed_->table_has_zeros_),
+      gathered_without_zeros_(fixed_->gathered_without_zeros_) {
+  use_calling_thread_blas();
 }
 
 Eigen::Map<Eigen::MatrixXd> ActionBlockSystem::gather(const std::vector<std::int32_t>& rows,
                                                       bool next_state, std::int32_t action,
                                                       std::vector<double>& buffer) const {
+  return fixed_->gather(rows, next_state, action, buffer);
+}
+
+Eigen::Map<Eigen::VectorXd> ActionBlockSystem::weighted_rewards(
+    const std::vector<std::int32_t>& rows, std::vector<double>& buffer) const {
+  return fixed_->weighted_rewards(rows, buffer);
+}
+
+Eigen::Map<Eigen::MatrixXd> ActionBlockFixed::gather(const std::vector<std::int32_t>& rows,
+                                                     bool next_state, std::int32_t action,
+                                                     std::vector<double>& buffer) const {
   const auto n = static_cast<Eigen::Index>(rows.size());
   const auto size = rows.size() * static_cast<std::size_t>(p_);
   if (buffer.size() < size) buffer.resize(size);
@@ -138,7 +224,7 @@ Eigen::Map<Eigen::MatrixXd> ActionBlockSystem::gather(const std::vector<std::int
   return Eigen::Map<Eigen::MatrixXd>(out, n, p_);
 }
 
-Eigen::Map<Eigen::VectorXd> ActionBlockSystem::weighted_rewards(
+Eigen::Map<Eigen::VectorXd> ActionBlockFixed::weighted_rewards(
     const std::vector<std::int32_t>& rows, std::vector<double>& buffer) const {
   if (buffer.size() < rows.size()) buffer.resize(rows.size());
   Eigen::Map<Eigen::VectorXd> out(buffer.data(), static_cast<Eigen::Index>(rows.size()));

@@ -39,6 +39,7 @@
 // changes the object (one thread at a time).
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,15 @@ namespace ggk::kernels {
 // naming the first row that is not (for an error message).
 std::string action_block_violation(const SparseRowMatrix& features, std::int32_t num_actions);
 
+// What the system keeps that no policy, solver or gamma changes: the samples'
+// weights' roots, D_a, the start right-hand side sum_i e_{a_i} u_i sqrt(w_i) r_i
+// and what the table holds (zeros, underflow). Formed once per table and samples
+// (~n p^2 flops and a pass over the table) and shared by the systems of fits that
+// differ only in their solver or gamma: each gives A and b bit for bit as when it
+// forms its own. Keeps references to the table and the samples. Defined in
+// action_block_system.cpp.
+class ActionBlockFixed;
+
 class ActionBlockSystem {
  public:
   // features must be in action-block form and samples valid for the table (both
@@ -64,8 +74,16 @@ class ActionBlockSystem {
   // num_actions), without forming it. Keeps references to state_kernels and samples.
   struct CopyBasisTag {};
   static constexpr CopyBasisTag copy_basis_tag{};
+  // `shared`: the fixed part made by copy_basis_fixed for this same state_kernels,
+  // num_actions and samples (the same objects, else std::invalid_argument), or
+  // null to form it here.
   ActionBlockSystem(CopyBasisTag, const SparseRowMatrix& state_kernels, std::int32_t num_actions,
-                    const SampleBatch& samples, LspiSolver solver, double gamma);
+                    const SampleBatch& samples, LspiSolver solver, double gamma,
+                    std::shared_ptr<const ActionBlockFixed> shared = nullptr);
+  // The copy basis's fixed part, to share between systems. std::invalid_argument
+  // unless state_kernels is compressed and the samples valid for its rows.
+  static std::shared_ptr<const ActionBlockFixed> copy_basis_fixed(
+      const SparseRowMatrix& state_kernels, std::int32_t num_actions, const SampleBatch& samples);
 
   // A (k x k, dense; BRM: symmetric, both triangles) and b for the greedy policy
   // `policy` (an action per table state).
@@ -119,19 +137,15 @@ class ActionBlockSystem {
   // Non-terminal samples grouped by (a_i, b_i), each group in sample order.
   std::vector<std::vector<std::int32_t>> full_groups(const std::vector<std::int32_t>& policy) const;
 
-  // Row r of the result (a rows.size() x p view of `buffer`, grown as needed) is
-  // sqrt(w_i) kappa(s, action) for sample i = rows[r], s its start (next_state =
-  // false) or successor state.
   Eigen::Map<Eigen::MatrixXd> gather(const std::vector<std::int32_t>& rows, bool next_state,
                                      std::int32_t action, std::vector<double>& buffer) const;
-
-  // sqrt(w_i) r_i for sample i = rows[r] (a view of `buffer`).
   Eigen::Map<Eigen::VectorXd> weighted_rewards(const std::vector<std::int32_t>& rows,
                                                std::vector<double>& buffer) const;
 
-  ActionBlockSystem(const SparseRowMatrix& features, bool copy_rows, std::int32_t num_actions,
-                    const SampleBatch& samples, LspiSolver solver, double gamma);
+  ActionBlockSystem(std::shared_ptr<const ActionBlockFixed> fixed, LspiSolver solver, double gamma);
 
+  std::shared_ptr<const ActionBlockFixed> fixed_;
+  // Of *fixed_, by their names before it was shared.
   const SparseRowMatrix& features_;  // the table, or the state kernels (copy_rows_)
   bool copy_rows_;                   // features_ row s is kappa(s, a) for every a
   const SampleBatch& samples_;
@@ -140,14 +154,13 @@ class ActionBlockSystem {
   Eigen::Index k_;  // m p
   LspiSolver solver_;
   double gamma_;
-  std::vector<double> sqrt_weights_;
-  std::vector<Eigen::MatrixXd> start_blocks_;  // D_a, both triangles
-  Eigen::VectorXd start_rhs_;                  // sum_i e_{a_i} u_i sqrt(w_i) r_i
-  std::int64_t live_samples_ = 0;              // non-terminal samples
-  bool table_has_zeros_ = false;               // some row of features_ has fewer than p non-zeros
+  const std::vector<Eigen::MatrixXd>& start_blocks_;  // D_a, both triangles
+  const Eigen::VectorXd& start_rhs_;                  // sum_i e_{a_i} u_i sqrt(w_i) r_i
+  std::int64_t live_samples_;                         // non-terminal samples
+  bool table_has_zeros_;  // some row of features_ has fewer than p non-zeros
   // No gathered entry sqrt(w_i) kappa is zero (no zero in the table, no underflow):
   // the BRM right-hand side's counts need no indicator products.
-  bool gathered_without_zeros_ = false;
+  bool gathered_without_zeros_;
   // State of `update`: the blocks and every sample's bootstrap action for the last
   // policy (-1 for terminal samples); empty before the first call.
   PolicyBlocks cached_;

@@ -5,6 +5,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "kernels/action_block_system.hpp"
 #include "kernels/copy_basis_greedy.hpp"
@@ -362,14 +363,15 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
 }
 
 LspiResult fit_lspi_copy_basis(const SparseRowMatrix& state_kernels, std::int32_t num_actions,
-                               const SampleBatch& samples, const LspiOptions& options) {
+                               const SampleBatch& samples, const LspiOptions& options,
+                               std::shared_ptr<const ActionBlockFixed> shared) {
   check_options(num_actions, options);
   samples.validate(static_cast<std::int32_t>(state_kernels.rows()), num_actions);
   SparseRowMatrix storage;
   const SparseRowMatrix& kernels = compressed(state_kernels, storage);
   const auto num_states = static_cast<std::size_t>(kernels.rows());
   ActionBlockSystem system(ActionBlockSystem::copy_basis_tag, kernels, num_actions, samples,
-                           options.solver, options.gamma);
+                           options.solver, options.gamma, std::move(shared));
   const Eigen::Index p = kernels.cols();
   return iterate_policies(
       system, sample_state_flags(num_states, samples), options,

@@ -28,6 +28,7 @@
 // Thread-safety: fit_lspi is reentrant; distinct calls may run in parallel.
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -37,6 +38,8 @@
 #include "kernels/sparse_solvers.hpp"
 
 namespace ggk::kernels {
+
+class ActionBlockFixed;  // action_block_system.hpp
 
 enum class LspiSolver { brm, lstdq };
 
@@ -123,8 +126,12 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
 // fit_lspi(copy_basis(state_kernels, num_actions), num_actions, samples, options)
 // from the state kernels (N x p) alone, bit for bit the same result, without the
 // (N m) x (m p) table (m times the kernels' memory) or the pass that builds it.
+// `shared`: the system's fixed part for these same kernels and samples
+// (ActionBlockSystem::copy_basis_fixed), formed once for fits that differ only in
+// their solver or gamma (the same result bit for bit); null: formed here.
 LspiResult fit_lspi_copy_basis(const SparseRowMatrix& state_kernels, std::int32_t num_actions,
-                               const SampleBatch& samples, const LspiOptions& options);
+                               const SampleBatch& samples, const LspiOptions& options,
+                               std::shared_ptr<const ActionBlockFixed> shared = nullptr);
 
 // fit_lspi_copy_basis for states that share their kernels: state s has row
 // row_of_state[s] of `row_kernels` (e.g. the Khepera's readings and the SOM unit

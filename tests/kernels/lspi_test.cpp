@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "kernels/action_block_system.hpp"
 #include "kernels/gaussian_kernels.hpp"
 #include "kernels/random_stream.hpp"
 #include "kernels/state_action_basis.hpp"
@@ -425,6 +426,62 @@ TEST(Lspi, CopyBasisFromStateKernelsEqualsTheTable) {
   SampleBatch outside;
   outside.add(kStates, 0, 0.0, 1, false);  // a state past the kernels' rows
   EXPECT_THROW(fit_lspi_copy_basis(state_kernels, 2, outside, {}), std::invalid_argument);
+}
+
+// Fits that differ only in their solver or gamma can share their system's fixed
+// part (D_a, the start right-hand side: ActionBlockSystem::copy_basis_fixed, as the
+// Khepera's BRM and LSTD-Q fits of one table do): the same fits bit for bit as
+// when each forms its own. A part made for other kernels, samples or actions is
+// refused, as are uncompressed kernels and samples outside the table.
+TEST(Lspi, CopyBasisFitsThatShareTheirFixedPartAreTheSameFits) {
+  constexpr int kStates = 24;
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int s = 0; s < kStates; ++s) {
+    for (int j = 0; j < 8; ++j) {
+      const double d = std::abs(s - 3.0 * j);
+      if (d < 8.0) entries.emplace_back(s, j, std::exp(-d * d / 8.0));
+    }
+  }
+  SparseRowMatrix state_kernels(kStates, 8);
+  state_kernels.setFromTriplets(entries.begin(), entries.end());
+  const SampleBatch samples = random_chain_walk(kStates, 3000, 19);
+  const auto shared = ActionBlockSystem::copy_basis_fixed(state_kernels, 2, samples);
+  for (const LspiSolver solver : {LspiSolver::brm, LspiSolver::lstdq}) {
+    for (const double gamma : {0.9, 0.5}) {
+      LspiOptions options;
+      options.solver = solver;
+      options.gamma = gamma;
+      options.ridge = 1e-6;
+      const LspiResult own = fit_lspi_copy_basis(state_kernels, 2, samples, options);
+      const LspiResult with_shared =
+          fit_lspi_copy_basis(state_kernels, 2, samples, options, shared);
+      ASSERT_TRUE(own.ok());
+      EXPECT_GT(own.iterations(), 2);
+      EXPECT_EQ(with_shared.status, own.status);
+      EXPECT_EQ(with_shared.weights, own.weights);
+      EXPECT_EQ(with_shared.policy, own.policy);
+      EXPECT_EQ(with_shared.b, own.b);
+      EXPECT_EQ(Eigen::MatrixXd(with_shared.a), Eigen::MatrixXd(own.a));
+      ASSERT_EQ(with_shared.iterations(), own.iterations());
+      for (int i = 0; i < own.iterations(); ++i) {
+        EXPECT_EQ(with_shared.history[i].policy_changes, own.history[i].policy_changes);
+        EXPECT_EQ(with_shared.history[i].rcond, own.history[i].rcond);
+      }
+    }
+  }
+  const SampleBatch copy = samples;  // equal, but not the samples the part was made for
+  EXPECT_THROW(fit_lspi_copy_basis(state_kernels, 2, copy, {}, shared), std::invalid_argument);
+  const SparseRowMatrix other = state_kernels;
+  EXPECT_THROW(fit_lspi_copy_basis(other, 2, samples, {}, shared), std::invalid_argument);
+  EXPECT_THROW(fit_lspi_copy_basis(state_kernels, 3, samples, {}, shared), std::invalid_argument);
+  SparseRowMatrix uncompressed = state_kernels;
+  uncompressed.uncompress();
+  EXPECT_THROW(ActionBlockSystem::copy_basis_fixed(uncompressed, 2, samples),
+               std::invalid_argument);
+  SampleBatch outside;
+  outside.add(kStates, 0, 0.0, 1, false);  // a state past the kernels' rows
+  EXPECT_THROW(ActionBlockSystem::copy_basis_fixed(state_kernels, 2, outside),
+               std::invalid_argument);
 }
 
 // States that share their kernels (the Khepera's readings of one SOM unit under

@@ -16,6 +16,7 @@
 #include "engine/tasks/khepera/khepera_table.hpp"
 #include "engine/tasks/pvf_basis.hpp"
 #include "engine/tasks/seeds.hpp"
+#include "kernels/action_block_system.hpp"
 #include "kernels/gaussian_kernels.hpp"
 #include "kernels/graph_diagnostics.hpp"
 #include "kernels/lspi.hpp"
@@ -140,8 +141,10 @@ EpisodeTest test_weights(const RunContext& ctx, const ReadingKernels& kernels_of
 }
 
 // table: the point's state kernels (state_kernel_table), read only when the point
-// is valid (no more kernels than graph nodes).
-FitRecord fit_point(const RunContext& ctx, const SweepPoint& point, const FitTable& table) {
+// is valid (no more kernels than graph nodes); shared: the copy basis's fixed
+// part for table.kernels (null: the fit forms its own).
+FitRecord fit_point(const RunContext& ctx, const SweepPoint& point, const FitTable& table,
+                    const std::shared_ptr<const kernels::ActionBlockFixed>& shared) {
   const auto started = std::chrono::steady_clock::now();
   const khepera::Khepera& robot = *ctx.robot;
   const std::int32_t m = robot.num_actions();
@@ -174,7 +177,8 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point, const FitTab
     fit.lspi = kernels::fit_lspi(kernels::shift_basis(table.kernels, m, *ctx.model), m, ctx.batch,
                                  lspi_options(point));
   } else if (table.row_of_state.empty()) {
-    fit.lspi = kernels::fit_lspi_copy_basis(table.kernels, m, ctx.batch, lspi_options(point));
+    fit.lspi =
+        kernels::fit_lspi_copy_basis(table.kernels, m, ctx.batch, lspi_options(point), shared);
   } else {
     fit.lspi = kernels::fit_lspi_copy_basis(table.kernels, table.row_of_state, m, ctx.batch,
                                             lspi_options(point));
@@ -218,7 +222,9 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point, const FitTab
 
 // The fits of a run. The fits of one (basis, width, kernel count) differ only in
 // the solver: they share one state-kernel table (built once, freed when they are
-// done, so sharing never holds more tables than a table per fit would). The
+// done, so sharing never holds more tables than a table per fit would) and, in
+// the copy scheme, their system's fixed part (D_a and the start right-hand side,
+// formed once instead of once per solver, the same sums bit for bit). The
 // kernel gap's per-centre sums are formed first, once per width, for the largest
 // valid count.
 std::vector<FitRecord> fit_points(RunContext& ctx, std::span<const SweepPoint> points) {
@@ -259,8 +265,17 @@ std::vector<FitRecord> fit_points(RunContext& ctx, std::span<const SweepPoint> p
     const FitTable table = first.kernels > ctx.graph.nodes
                                ? FitTable()
                                : state_kernel_table(ctx, first.basis, first.sigma, first.kernels);
+    const kernels::BasisScheme scheme =
+        first.basis == KernelType::pvf ? ctx.job->pvf.actions : ctx.job->basis.scheme;
+    std::shared_ptr<const kernels::ActionBlockFixed> shared;
+    if (group.size() > 1 && first.kernels <= ctx.graph.nodes &&
+        scheme == kernels::BasisScheme::copy && table.row_of_state.empty() &&
+        table.kernels.isCompressed()) {
+      shared = kernels::ActionBlockSystem::copy_basis_fixed(table.kernels, ctx.robot->num_actions(),
+                                                            ctx.batch);
+    }
     tbb::parallel_for(std::size_t{0}, group.size(), [&](std::size_t f) {
-      fits[group[f]] = fit_point(ctx, points[group[f]], table);
+      fits[group[f]] = fit_point(ctx, points[group[f]], table, shared);
     });
   });
   return fits;
