@@ -282,6 +282,45 @@ BENCHMARK(BM_BrmRebuild)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The systems of a BRM and an LSTD-Q fit of one table (what the Khepera's two
+// solvers at one kernel count build before their first iteration), at the
+// Khepera's shapes as BM_BrmRebuild (p = 100): shared:0 forms the fixed part (D_a
+// and the start right-hand side: the table's scans, the gather and n p^2 flops of
+// SYRK) in each system, shared:1 once for both (ActionBlockSystem::copy_basis_fixed,
+// as engine/tasks/khepera/khepera_task.cpp's fit_points does).
+void BM_SolverPairFixedPart(benchmark::State& state) {
+  const bool shared = state.range(0) != 0;
+  constexpr Eigen::Index kP = 100;
+  constexpr std::int32_t kReadings = 20200, kSamples = 20000;
+  kernels::RandomStream rng(19, 0, 0);
+  kernels::RowMatrixXd dense(kReadings, kP);
+  for (Eigen::Index e = 0; e < dense.size(); ++e) dense.data()[e] = rng.uniform(-1, 1);
+  kernels::SparseRowMatrix table = dense.sparseView();
+  table.makeCompressed();
+  kernels::SampleBatch samples;
+  for (std::int32_t i = 0; i < kSamples; ++i) {
+    samples.add(i, static_cast<std::int32_t>(rng.uniform_index(kActions)), rng.uniform(), i + 1,
+                false);
+  }
+  for (auto _ : state) {
+    const auto fixed =
+        shared ? kernels::ActionBlockSystem::copy_basis_fixed(table, kActions, samples) : nullptr;
+    const kernels::ActionBlockSystem brm(kernels::ActionBlockSystem::copy_basis_tag, table,
+                                         kActions, samples, kernels::LspiSolver::brm, 0.9, fixed);
+    const kernels::ActionBlockSystem lstdq(kernels::ActionBlockSystem::copy_basis_tag, table,
+                                           kActions, samples, kernels::LspiSolver::lstdq, 0.9,
+                                           fixed);
+    benchmark::DoNotOptimize(&brm);
+    benchmark::DoNotOptimize(&lstdq);
+  }
+}
+BENCHMARK(BM_SolverPairFixedPart)
+    ->ArgName("shared")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 // The machine's dense peak through the same BLAS and thread setting: one 1,024 x
 // 1,024 GEMM (2 n^3 flops), counter GFlops.
 void BM_DgemmPeak(benchmark::State& state) {
