@@ -209,6 +209,31 @@ void BM_AssembleBrmSystem(benchmark::State& state, AssembleMethod method) {
   }
   state.SetLabel("Eigen sparse product");
 }
+// The shift basis (Eq. 9) of a deterministic task, as the arm's fits build it:
+// the 40 x 40 grid world above (one successor per pair), p untruncated geodesic
+// Gaussian centres (dense rows, k = 4 p).
+void BM_ShiftBasis(benchmark::State& state) {
+  const auto p = static_cast<std::int32_t>(state.range(0));
+  const GridProblem problem = make_problem(p);
+  const kernels::RowMatrixXd distances =
+      kernels::geodesic_distances(problem.graph, problem.centers);
+  const kernels::SparseRowMatrix state_kernels =
+      kernels::geodesic_gaussian_kernels(distances, kSigma, 0.0);
+  const kernels::EmpiricalTransitionModel model(
+      problem.graph.num_nodes, kActions, problem.samples.states, problem.samples.actions,
+      problem.samples.next_states, problem.samples.weights);
+  for (auto _ : state) {
+    kernels::SparseRowMatrix features = kernels::shift_basis(state_kernels, kActions, model);
+    benchmark::DoNotOptimize(features.valuePtr());
+  }
+}
+BENCHMARK(BM_ShiftBasis)
+    ->ArgName("p")
+    ->Arg(32)
+    ->Arg(128)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 // The greedy step of a copy basis over a Khepera-sized state-kernel table (20,200
 // readings, 4 actions), each instruction path (kernels/copy_basis_greedy.hpp): named
 // instructions:{portable,automatic} (automatic: AVX2 where the CPU has it, the

@@ -71,6 +71,16 @@ SparseRowMatrix shift_basis(const SparseRowMatrix& state_kernels, std::int32_t n
       // Eq. (9): sum_s' P(s'|s,a) K(s', c_j).
       const auto successors = model.successors(s, a);
       const auto probabilities = model.probabilities(s, a);
+      if (successors.size() == 1) {
+        // One successor (a deterministic task): its row, in column order, each
+        // entry the accumulator's 0 + P * K (the same sum without the bookkeeping).
+        const double probability = probabilities[0];
+        for (SparseRowMatrix::InnerIterator it(state_kernels, successors[0]); it; ++it) {
+          table.insertBack(row, static_cast<Eigen::Index>(a) * p + it.col()) =
+              0.0 + probability * it.value();
+        }
+        continue;
+      }
       for (std::size_t e = 0; e < successors.size(); ++e) {
         for (SparseRowMatrix::InnerIterator it(state_kernels, successors[e]); it; ++it) {
           const auto j = static_cast<std::size_t>(it.col());
