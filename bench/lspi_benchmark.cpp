@@ -15,6 +15,7 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/grid_graphs.hpp"
+#include "kernels/action_block_greedy.hpp"
 #include "kernels/action_block_system.hpp"
 #include "kernels/avx2_dispatch.hpp"
 #include "kernels/blas_runtime.hpp"
@@ -234,6 +235,31 @@ BENCHMARK(BM_ShiftBasis)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The greedy step over that shift table (p = 128, k = 512, the arm's largest),
+// method:{sparse_product,action_block}: greedy_policy (features * w, then the
+// argmax) against action_block_greedy (kernels/action_block_greedy.hpp: the same
+// policy bit for bit, the actions of a dense state summed side by side).
+void BM_ActionBlockGreedy(benchmark::State& state, bool action_block) {
+  constexpr std::int32_t kP = 128;
+  const GridProblem problem = make_problem(kP);
+  const kernels::RowMatrixXd distances =
+      kernels::geodesic_distances(problem.graph, problem.centers);
+  const kernels::EmpiricalTransitionModel model(
+      problem.graph.num_nodes, kActions, problem.samples.states, problem.samples.actions,
+      problem.samples.next_states, problem.samples.weights);
+  const kernels::SparseRowMatrix features = kernels::shift_basis(
+      kernels::geodesic_gaussian_kernels(distances, kSigma, 0.0), kActions, model);
+  kernels::RandomStream rng(23, 0, 0);
+  Eigen::VectorXd weights(features.cols());
+  for (Eigen::Index e = 0; e < weights.size(); ++e) weights(e) = rng.uniform(-1, 1);
+  for (auto _ : state) {
+    const std::vector<std::int32_t> policy =
+        action_block ? kernels::action_block_greedy(features, kActions, weights)
+                     : kernels::greedy_policy(features, kActions, weights);
+    benchmark::DoNotOptimize(policy.data());
+  }
+}
+
 // The greedy step of a copy basis over a Khepera-sized state-kernel table (20,200
 // readings, 4 actions), each instruction path (kernels/copy_basis_greedy.hpp): named
 // instructions:{portable,automatic} (automatic: AVX2 where the CPU has it, the
@@ -397,6 +423,14 @@ const bool kRegistered = [] {
         ->Args({100, 100})
         ->Args({50, 100})
         ->Args({100, 30})
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  }
+  for (const bool action_block : {false, true}) {
+    benchmark::RegisterBenchmark((std::string("BM_ActionBlockGreedy/method:") +
+                                  (action_block ? "action_block" : "sparse_product"))
+                                     .c_str(),
+                                 BM_ActionBlockGreedy, action_block)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
   }

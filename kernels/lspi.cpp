@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "kernels/action_block_greedy.hpp"
 #include "kernels/action_block_system.hpp"
 #include "kernels/copy_basis_greedy.hpp"
 #include "kernels/dense_solvers.hpp"
@@ -357,9 +358,11 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
                               return copy_greedy(features, num_actions, p, num_actions, w);
                             });
   }
+  SparseRowMatrix storage;
+  const SparseRowMatrix& table = compressed(features, storage);
   return iterate_policies(
       system, sample_state_flags(num_states, samples), options,
-      [&](const Eigen::VectorXd& w) { return greedy_policy(features, num_actions, w); });
+      [&](const Eigen::VectorXd& w) { return action_block_greedy(table, num_actions, w); });
 }
 
 LspiResult fit_lspi_copy_basis(const SparseRowMatrix& state_kernels, std::int32_t num_actions,
