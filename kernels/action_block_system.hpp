@@ -137,6 +137,8 @@ class ActionBlockSystem {
   // Non-terminal samples grouped by (a_i, b_i), each group in sample order.
   std::vector<std::vector<std::int32_t>> full_groups(const std::vector<std::int32_t>& policy) const;
 
+  // The fixed part's: sqrt(w_i) kappa of the samples `rows` (start or successor
+  // states), and sqrt(w_i) r_i (ActionBlockFixed in action_block_system.cpp).
   Eigen::Map<Eigen::MatrixXd> gather(const std::vector<std::int32_t>& rows, bool next_state,
                                      std::int32_t action, std::vector<double>& buffer) const;
   Eigen::Map<Eigen::VectorXd> weighted_rewards(const std::vector<std::int32_t>& rows,
