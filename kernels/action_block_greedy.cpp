@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "kernels/first_best.hpp"
+
 namespace ggk::kernels {
 
 namespace {
@@ -43,22 +45,14 @@ void greedy_states(const SparseRowMatrix& features, std::int32_t m, const double
         for (Eigen::Index j = 0; j < p; ++j) {
           for (std::int32_t a = 0; a < kActions; ++a) sums[a] += v[a * p + j] * weights[a * p + j];
         }
-        std::int32_t best = 0;
-        for (std::int32_t a = 1; a < kActions; ++a) {
-          if (sums[a] > sums[best]) best = a;
-        }
-        policy[s] = best;
+        policy[s] = first_best(sums, kActions);
         continue;
       }
     }
     for (std::int32_t a = 0; a < m; ++a) {
       q[static_cast<std::size_t>(a)] = row_value(features, first + a, weights);
     }
-    std::int32_t best = 0;
-    for (std::int32_t a = 1; a < m; ++a) {
-      if (q[static_cast<std::size_t>(a)] > q[static_cast<std::size_t>(best)]) best = a;
-    }
-    policy[s] = best;
+    policy[s] = first_best(q.data(), m);
   }
 }
 

@@ -3,20 +3,11 @@
 #include <algorithm>
 
 #include "kernels/avx2_dispatch.hpp"
+#include "kernels/first_best.hpp"
 
 namespace ggk::kernels {
 
 namespace {
-
-// The greedy action of Q values q[0 .. m): the first largest (ties to the lowest
-// action).
-inline std::int32_t first_best(const double* q, std::int32_t m) {
-  std::int32_t best = 0;
-  for (std::int32_t a = 1; a < m; ++a) {
-    if (q[a] > q[best]) best = a;
-  }
-  return best;
-}
 
 // Points v[b] at the values of state first + b's row, b < kLanes; true when every
 // one of those rows is dense (p entries, columns 0 .. p - 1 in order).

@@ -253,8 +253,8 @@ std::vector<std::int32_t> sample_state_flags(std::size_t num_states, const Sampl
   return on_samples;
 }
 
-// `kernels` itself when compressed, else a compressed copy in `storage`
-// (copy_greedy reads the compressed arrays).
+// `kernels` itself when compressed, else a compressed copy in `storage` (the
+// greedy steps, copy_greedy and action_block_greedy, read the compressed arrays).
 const SparseRowMatrix& compressed(const SparseRowMatrix& kernels, SparseRowMatrix& storage) {
   if (kernels.isCompressed()) return kernels;
   storage = kernels;
@@ -351,15 +351,15 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
   check_inputs(features, num_actions, samples, options);
   const auto num_states = static_cast<std::size_t>(features.rows() / num_actions);
   ActionBlockSystem system(features, num_actions, samples, options.solver, options.gamma);
-  if (is_copy_layout(features, num_actions)) {
-    const Eigen::Index p = features.cols() / num_actions;
+  SparseRowMatrix storage;  // both greedy steps read the compressed arrays
+  const SparseRowMatrix& table = compressed(features, storage);
+  if (is_copy_layout(table, num_actions)) {
+    const Eigen::Index p = table.cols() / num_actions;
     return iterate_policies(system, sample_state_flags(num_states, samples), options,
                             [&](const Eigen::VectorXd& w) {
-                              return copy_greedy(features, num_actions, p, num_actions, w);
+                              return copy_greedy(table, num_actions, p, num_actions, w);
                             });
   }
-  SparseRowMatrix storage;
-  const SparseRowMatrix& table = compressed(features, storage);
   return iterate_policies(
       system, sample_state_flags(num_states, samples), options,
       [&](const Eigen::VectorXd& w) { return action_block_greedy(table, num_actions, w); });

@@ -1,6 +1,5 @@
 #include "engine/store/run_digest.hpp"
 
-#include <algorithm>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
@@ -46,9 +45,7 @@ void add_object(const Hdf5File::Object& object, const std::string& relative, int
                 DigestScope scope, Fnv1a& hash) {
   if (depth > kMaxDepth) throw std::runtime_error(object.path() + ": groups nested too deep");
   hash.add(relative);
-  std::vector<std::string> names = object.attribute_names();
-  std::sort(names.begin(), names.end());
-  for (const std::string& name : names) {
+  for (const std::string& name : object.attribute_names()) {  // sorted by name
     if (left_out(relative, name)) continue;
     const Hdf5File::Values values = object.read_attribute_values(name);
     hash.add(name);
@@ -74,9 +71,7 @@ void add_object(const Hdf5File::Object& object, const std::string& relative, int
     }
     case Hdf5File::ObjectKind::kGroup: {
       hash.add("group");
-      std::vector<std::string> members = object.member_names();
-      std::sort(members.begin(), members.end());
-      for (const std::string& member : members) {
+      for (const std::string& member : object.member_names()) {  // sorted by name
         const std::optional<Hdf5File::Object> child = object.hard_member(member);
         if (!child) throw std::runtime_error(object.path() + "/" + member + ": not a hard link");
         add_object(*child, relative + "/" + member, depth + 1, scope, hash);

@@ -8,6 +8,7 @@
 
 #include "kernels/lspi.hpp"
 #include "kernels/random_stream.hpp"
+#include "support/near_tied_weights.hpp"
 
 namespace ggk::kernels {
 namespace {
@@ -41,20 +42,6 @@ SparseRowMatrix block_table(RandomStream& rng, Eigen::Index states, std::int32_t
   return table;
 }
 
-// Weights whose actions differ in the last bits only (odd trials) or not at all
-// (even trials): Q values that another order of the sums would rank differently.
-Eigen::VectorXd near_tied_weights(RandomStream& rng, Eigen::Index p, std::int32_t m, int trial) {
-  Eigen::VectorXd w(p * m);
-  for (Eigen::Index j = 0; j < p; ++j) {
-    const double base = rng.uniform(-1, 1);
-    for (std::int32_t a = 0; a < m; ++a) {
-      w(a * p + j) =
-          trial % 2 == 0 ? base : base * (1.0 + 1e-15 * static_cast<double>(rng.uniform_index(3)));
-    }
-  }
-  return w;
-}
-
 // The policy of greedy_policy (features * w, then the first largest Q per state),
 // bit for bit, for 2 to 4 actions (the side-by-side sums) and 5 (the row loop).
 TEST(ActionBlockGreedy, EqualsTheSparseProductsPolicy) {
@@ -63,7 +50,7 @@ TEST(ActionBlockGreedy, EqualsTheSparseProductsPolicy) {
     for (const Eigen::Index p : {1, 6, 32}) {
       const SparseRowMatrix table = block_table(rng, 701, m, p);
       for (int trial = 0; trial < 6; ++trial) {
-        const Eigen::VectorXd w = near_tied_weights(rng, p, m, trial);
+        const Eigen::VectorXd w = test_support::near_tied_weights(rng, p, m, trial);
         EXPECT_EQ(action_block_greedy(table, m, w), greedy_policy(table, m, w))
             << m << " actions, p " << p << ", trial " << trial;
       }

@@ -9,6 +9,7 @@
 #include "kernels/lspi.hpp"
 #include "kernels/random_stream.hpp"
 #include "kernels/state_action_basis.hpp"
+#include "support/near_tied_weights.hpp"
 
 namespace ggk::kernels {
 namespace {
@@ -31,22 +32,6 @@ SparseRowMatrix mixed_table(RandomStream& rng, Eigen::Index states, Eigen::Index
   return table;
 }
 
-// Weights whose actions differ in the last bits only (odd trials) or not at all
-// (even trials: every Q ties, the lowest action wins): Q values that a fused
-// multiply-add, or any other order of the sums, would rank differently.
-Eigen::VectorXd near_tied_weights(RandomStream& rng, Eigen::Index p, std::int32_t actions,
-                                  int trial) {
-  Eigen::VectorXd w(p * actions);
-  for (Eigen::Index j = 0; j < p; ++j) {
-    const double base = rng.uniform(-1, 1);
-    for (std::int32_t a = 0; a < actions; ++a) {
-      w(a * p + j) =
-          trial % 2 == 0 ? base : base * (1.0 + 1e-15 * static_cast<double>(rng.uniform_index(3)));
-    }
-  }
-  return w;
-}
-
 // Both instruction paths give greedy_policy's policy on the copy table, bit for bit,
 // for 2, 3 and 4 actions (the AVX2 path serves 4; the others check the dispatch).
 TEST(CopyBasisGreedy, EveryPathEqualsTheSparseProduct) {
@@ -57,7 +42,7 @@ TEST(CopyBasisGreedy, EveryPathEqualsTheSparseProduct) {
       const SparseRowMatrix kernels = mixed_table(rng, 1003, p);
       const SparseRowMatrix features = copy_basis(kernels, actions);
       for (int trial = 0; trial < 6; ++trial) {
-        const Eigen::VectorXd w = near_tied_weights(rng, p, actions, trial);
+        const Eigen::VectorXd w = test_support::near_tied_weights(rng, p, actions, trial);
         const std::vector<std::int32_t> expected = greedy_policy(features, actions, w);
         EXPECT_EQ(copy_greedy(kernels, 1, p, actions, w, GreedyInstructions::automatic), expected)
             << actions << " actions, p " << p << ", trial " << trial;
