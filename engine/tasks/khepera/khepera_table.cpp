@@ -15,8 +15,8 @@
 
 #include "engine/job/kernel_width.hpp"
 #include "engine/job/task_table.hpp"
-#include "engine/job/walk_sizes.hpp"
 #include "engine/single_quoted.hpp"
+#include "engine/tasks/continuous_table.hpp"
 #include "engine/tasks/geometry_keys.hpp"
 #include "sims/khepera/khepera.hpp"
 
@@ -47,23 +47,6 @@ constexpr std::array<std::string_view, 3> kNoiseModels = {"proportional", "thres
 constexpr std::array<std::string_view, 4> kMotionKeys = {"step_cm", "turn_deg", "wheel_noise",
                                                          "collision_substeps"};
 constexpr std::array<std::string_view, 2> kRewardKeys = {"forward", "collision"};
-constexpr std::array<std::string_view, 8> kSomKeys = {"rows",           "cols",
-                                                      "epochs",         "initial_radius",
-                                                      "final_radius",   "radius_schedule",
-                                                      "initialization", "grid_from_samples"};
-constexpr std::array<std::string_view, 2> kRadiusSchedules = {"exponential", "linear"};
-constexpr std::array<std::string_view, 2> kInitializations = {"principal_components",
-                                                              "random_samples"};
-constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
-// Evaluation episodes per fit: the paper's jobs use 10 (the noise of sensors and
-// wheels averaged out); 10^4 is a thousand times that, and beyond it a job is
-// one that never ends.
-constexpr IntegerRange kTestEpisodesRange{1, 10'000};
-// Batch SOM epochs: the map settles in tens (the paper's jobs use 30); each epoch
-// reads every reading against every unit, so 10^4 epochs already cost minutes
-// per run.
-constexpr IntegerRange kSomEpochsRange{1, 10'000};
-
 constexpr std::array<ObstacleKind, 4> kObstacleKindKeys = {{
     {"segment", kSegmentKeys, "kind, a, b"},
     {"rectangle", kRectangleKeys, "kind, min, max"},
@@ -216,60 +199,6 @@ khepera::Rewards parse_rewards(const TomlTableReader& table) {
   return rewards;
 }
 
-// [khepera.som]; `readings` = readings per run (series x (steps_per_series + 1)),
-// the SOM's training set. `khepera` is the [khepera] table (for messages about
-// the default grid).
-void parse_som(const TomlTableReader& khepera, const TomlTableReader& table, std::int64_t readings,
-               KheperaTaskConfig& config) {
-  kernels::SomOptions& som = config.som;
-  config.som_grid_from_samples = table.boolean("grid_from_samples", false);
-  if (config.som_grid_from_samples) {
-    for (const std::string_view key : {"rows", "cols"}) {
-      if (table.has(key)) {
-        table.fail(key,
-                   "the grid is derived from the samples (grid_from_samples = true); "
-                   "remove rows and cols, or set grid_from_samples = false");
-      }
-    }
-  } else {
-    som.rows = static_cast<std::int32_t>(table.integer("rows", {1, kInt32Max}, som.rows));
-    som.cols = static_cast<std::int32_t>(table.integer("cols", {1, kInt32Max}, som.cols));
-    const std::int64_t units = std::int64_t{som.rows} * som.cols;
-    if (units > readings) {
-      const std::string detail =
-          "rows x cols = " + std::to_string(som.rows) + " x " + std::to_string(som.cols) + " = " +
-          std::to_string(units) + " units, more than the " + std::to_string(readings) +
-          " readings per run (series x (steps_per_series + 1)) the map is trained on";
-      if (table.has("rows")) table.fail("rows", detail);
-      if (table.has("cols")) table.fail("cols", detail);
-      // The default grid: blame the protocol that made the run too small.
-      const std::string hint = "; set [khepera.som] rows and cols, or grid_from_samples = true";
-      if (khepera.has("steps_per_series")) khepera.fail("steps_per_series", detail + hint);
-      if (khepera.has("series")) khepera.fail("series", detail + hint);
-      khepera.fail_table(detail + hint);
-    }
-  }
-  som.epochs = static_cast<std::int32_t>(table.integer("epochs", kSomEpochsRange, som.epochs));
-  som.final_radius = table.number("final_radius", NumberRange::above(0.0), som.final_radius);
-  if (table.has("initial_radius")) {
-    som.initial_radius = table.number("initial_radius", NumberRange::above(0.0));
-    if (*som.initial_radius < som.final_radius) {
-      const std::string final_radius = table.has("final_radius")
-                                           ? describe_value(*table.find("final_radius"))
-                                           : "1.0, its default";
-      table.fail("initial_radius", "expected a number >= final_radius (" + final_radius +
-                                       "), got " + describe_value(*table.find("initial_radius")));
-    }
-  }
-  som.radius_schedule = table.choice("radius_schedule", kRadiusSchedules, "exponential") == "linear"
-                            ? kernels::SomRadiusSchedule::linear
-                            : kernels::SomRadiusSchedule::exponential;
-  som.initialization =
-      table.choice("initialization", kInitializations, "principal_components") == "random_samples"
-          ? kernels::SomInitialization::random_samples
-          : kernels::SomInitialization::principal_components;
-}
-
 // Builds the simulator once; what check_config or the constructor rejects is
 // reported at the key that set the part at fault.
 void check_simulator(const khepera::KheperaConfig& config, const TomlTableReader& table,
@@ -325,8 +254,9 @@ void check_simulator(const khepera::KheperaConfig& config, const TomlTableReader
 DistanceScale khepera_distance_scale(const KheperaTaskConfig& config, std::int64_t readings) {
   const double max_reading = config.simulator.sensors.max_reading;
   const double diagonal = std::sqrt(static_cast<double>(sims::khepera::kNumSensors)) * max_reading;
+  const kernels::SomOptions& som = config.protocol.som;
   const std::int64_t units =
-      config.som_grid_from_samples ? readings : std::int64_t{config.som.rows} * config.som.cols;
+      config.protocol.som_grid_from_samples ? readings : std::int64_t{som.rows} * som.cols;
   return {max_reading * 1e-6, 10.0 * static_cast<double>(units + 1) * diagonal,
           "a millionth of the sensor range max_reading",
           "the SOM's units times 10 times the diagonal of the readings' range"};
@@ -343,14 +273,16 @@ KheperaTaskConfig parse_khepera_table(const TomlTableReader& job,
   khepera::KheperaConfig& simulator = config.simulator;
 
   // The protocol first: the SOM's size is checked against it.
-  const WalkSizes walks =
-      read_walk_sizes(*table, {simulator.series, simulator.steps_per_series}, WalkIds::kReadings);
-  simulator.series = walks.series;
-  simulator.steps_per_series = walks.steps_per_series;
-  simulator.test_max_steps = static_cast<std::int32_t>(
-      table->integer("test_max_steps", kTestMaxStepsRange, simulator.test_max_steps));
-  simulator.test_episodes = static_cast<std::int32_t>(
-      table->integer("test_episodes", kTestEpisodesRange, simulator.test_episodes));
+  ContinuousProtocol& protocol = config.protocol;
+  protocol.series = simulator.series;
+  protocol.steps_per_series = simulator.steps_per_series;
+  protocol.test_max_steps = simulator.test_max_steps;
+  protocol.test_episodes = simulator.test_episodes;
+  read_continuous_walks(*table, protocol);
+  simulator.series = protocol.series;
+  simulator.steps_per_series = protocol.steps_per_series;
+  simulator.test_max_steps = protocol.test_max_steps;
+  simulator.test_episodes = protocol.test_episodes;
   const std::int64_t readings =
       std::int64_t{simulator.series} * (std::int64_t{simulator.steps_per_series} + 1);
 
@@ -362,7 +294,7 @@ KheperaTaskConfig parse_khepera_table(const TomlTableReader& job,
   simulator.motion = parse_motion(motion);
   const TomlTableReader rewards = table->subtable_or_empty("rewards", kRewardKeys);
   simulator.rewards = parse_rewards(rewards);
-  parse_som(*table, table->subtable_or_empty("som", kSomKeys), readings, config);
+  read_som(*table, protocol);
   check_kernel_widths(job, khepera_distance_scale(config, readings));
 
   // The arena: exactly one of [khepera.arena] and arena_file.

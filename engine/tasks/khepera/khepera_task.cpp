@@ -1,27 +1,12 @@
 #include "engine/tasks/khepera/khepera_task.hpp"
 
 #include <algorithm>
-#include <chrono>
-#include <limits>
 #include <memory>
 #include <string>
-#include <utility>
 
-#include <tbb/parallel_for.h>
-
-#include "engine/tasks/graph_protocol.hpp"
+#include "engine/tasks/continuous_protocol.hpp"
 #include "engine/tasks/khepera/khepera_arena.hpp"
-#include "engine/tasks/khepera/khepera_episodes.hpp"
-#include "engine/tasks/khepera/khepera_memory.hpp"
 #include "engine/tasks/khepera/khepera_table.hpp"
-#include "engine/tasks/pvf_basis.hpp"
-#include "engine/tasks/seeds.hpp"
-#include "kernels/action_block_system.hpp"
-#include "kernels/gaussian_kernels.hpp"
-#include "kernels/graph_diagnostics.hpp"
-#include "kernels/lspi.hpp"
-#include "kernels/state_action_basis.hpp"
-#include "kernels/transition_model.hpp"
 #include "sims/khepera/khepera.hpp"
 
 namespace ggk::engine {
@@ -29,267 +14,65 @@ namespace ggk::engine {
 namespace {
 
 namespace khepera = sims::khepera;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The kernel gap's sum over the readings per centre (in centre order) for one width.
-struct SharedGap {
-  double sigma = 0.0;
-  std::vector<double> per_center;
+// The robot behind the continuous protocol: the hidden state is the pose; a
+// walk starts from a random free pose, a test from the arena's start pose; a
+// collision (the move undone) stops a test episode but not a walk.
+class KheperaEpisode final : public ContinuousEpisode {
+ public:
+  explicit KheperaEpisode(const khepera::Khepera& robot) : robot_(robot) {}
+
+  void start_walk(kernels::RandomStream& random, std::span<double> observation) override {
+    pose_ = robot_.sample_free_pose(random);
+    copy(robot_.sense(pose_, random), observation);
+  }
+  void start_test(kernels::RandomStream& random, std::span<double> observation) override {
+    pose_ = robot_.start_pose();
+    copy(robot_.sense(pose_, random), observation);
+  }
+  ContinuousStep step(std::int32_t action, kernels::RandomStream& random,
+                      std::span<double> observation) override {
+    const khepera::StepResult r = robot_.step(pose_, action, random);
+    pose_ = r.next_pose;
+    copy(r.observation, observation);
+    return {r.reward, false, false, r.collided};
+  }
+  void trace(std::vector<double>& out) const override {
+    out.insert(out.end(), {pose_.x, pose_.y, pose_.heading});
+  }
+
+ private:
+  static void copy(const khepera::Readings& readings, std::span<double> observation) {
+    std::copy(readings.begin(), readings.end(), observation.begin());
+  }
+
+  const khepera::Khepera& robot_;
+  khepera::Pose pose_;
 };
 
-// Everything the fits of a run share.
-struct RunContext {
-  const khepera::Khepera* robot = nullptr;
-  const JobSpec* job = nullptr;
-  std::int32_t run = 0;
-  const Walks* walks = nullptr;
-  const kernels::SelfOrganizingMap* som = nullptr;
-  kernels::BestMatches state_units;    // best-matching unit of every state
-  RunGraph graph;                      // over the occupied units, centres among them
-  RunEigenbases eigenbases;            // the proto-value functions, when a point asks
-  std::vector<std::uint8_t> occupied;  // per unit: the best match of some sample
-  kernels::SampleBatch batch;          // the walks' samples, folded if the job asks
-  std::unique_ptr<kernels::EmpiricalTransitionModel> model;  // for the shift scheme
-  // The kernel gap's per-centre sums, per width (formed before the fits start).
-  std::vector<SharedGap> kernel_gaps;
-};
-
-// kernel_gap of a fit: the mean over the walks' readings and the fit's centres of
-// |K_GGK - K_OGK| at the fit's width (untruncated), GGK in the continuous form
-// the fit's kernel table uses.
-// The kernel gap's sum over the readings for each of `centers` (one term per centre).
-std::vector<double> kernel_gap_terms(const RunContext& ctx, std::span<const std::int32_t> centers,
-                                     double sigma) {
-  const kernels::RowMatrixXd& readings = ctx.walks->readings;
-  const auto n = static_cast<std::size_t>(readings.rows());
-  std::vector<double> terms(centers.size());
-  tbb::parallel_for(std::size_t{0}, centers.size(), [&](std::size_t j) {
-    std::vector<double> geodesic(n), euclidean(n);
-    const auto center = ctx.som->prototypes().row(centers[j]);
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto row = static_cast<Eigen::Index>(i);
-      geodesic[i] =
-          ctx.state_units.distances[i] +
-          ctx.graph.center_distances(static_cast<Eigen::Index>(j), ctx.state_units.units[i]);
-      euclidean[i] = (readings.row(row) - center).norm();
-    }
-    terms[j] = kernels::kernel_gap_sum(geodesic, euclidean, sigma);
-  });
-  return terms;
-}
-
-// The mean of the first p terms over the readings (summed in centre order).
-double fit_kernel_gap(const RunContext& ctx, std::int32_t p, double sigma) {
-  const SharedGap* gap = nullptr;
-  for (const SharedGap& g : ctx.kernel_gaps) {
-    if (g.sigma == sigma) gap = &g;
+ContinuousEnvironment khepera_environment(const khepera::Khepera& robot) {
+  ContinuousEnvironment env;
+  env.observation_dimension = khepera::kNumSensors;
+  env.num_actions = khepera::kNumActions;
+  for (std::int32_t a = 0; a < khepera::kNumActions; ++a) {
+    env.action_names.emplace_back(khepera::action_name(a));
   }
-  double sum = 0.0;
-  for (std::int32_t j = 0; j < p; ++j) sum += gap->per_center[static_cast<std::size_t>(j)];
-  const double pairs = static_cast<double>(ctx.walks->readings.rows()) * static_cast<double>(p);
-  return pairs > 0.0 ? sum / pairs : kNaN;
-}
-
-// The state kernels of every reading of the walks for the first p centres.
-// row_of_state is empty (one row per reading) except for proto-value functions in
-// the copy scheme: their readings take their SOM unit's row, so `kernels` holds
-// each occupied unit's row once (pvf_row_table) for fit_lspi_copy_basis's shared
-// rows, the same fit bit for bit with a greedy step over the units.
-struct FitTable {
-  kernels::SparseRowMatrix kernels;
-  std::vector<std::int32_t> row_of_state;
-};
-
-FitTable state_kernel_table(const RunContext& ctx, KernelType basis, double sigma, std::int32_t p) {
-  const double truncation = ctx.job->basis.truncation;
-  if (basis == KernelType::pvf) {
-    if (ctx.job->pvf.actions == kernels::BasisScheme::copy) {
-      PvfRowTable table = pvf_row_table(ctx.eigenbases.of(p), ctx.state_units.units, p);
-      return {std::move(table.rows), std::move(table.row_of_state)};
-    }
-    return {pvf_state_table(ctx.eigenbases.of(p), ctx.state_units.units, p), {}};
-  }
-  if (basis == KernelType::ggk) {
-    return {kernels::continuous_geodesic_gaussian_kernels(
-                ctx.state_units.units, ctx.state_units.distances,
-                ctx.graph.center_distances.topRows(p), sigma, truncation),
-            {}};
-  }
-  kernels::RowMatrixXd center_vectors(p, khepera::kNumSensors);
-  for (std::int32_t j = 0; j < p; ++j) {
-    center_vectors.row(j) =
-        ctx.som->prototypes().row(ctx.graph.centers[static_cast<std::size_t>(j)]);
-  }
-  return {
-      kernels::ordinary_gaussian_kernels(ctx.walks->readings, center_vectors, sigma, truncation),
-      {}};
-}
-
-// The test of greedy weights: the episodes from a fresh copy of the run's
-// evaluation stream (seeds.hpp: every fit of a run meets the same test noise);
-// sets the tested metrics.
-EpisodeTest test_weights(const RunContext& ctx, const ReadingKernels& kernels_of,
-                         const Eigen::VectorXd& weights, FitMetrics& metrics,
-                         bool keep_trajectories) {
-  EpisodeTest test =
-      test_episodes(*ctx.robot, stream_for(ctx.job->seed, ctx.run, Purpose::evaluation), kernels_of,
-                    weights, keep_trajectories);
-  metrics.set("mean_return", test.mean_return);
-  metrics.set("collision_fraction", test.collision_fraction);
-  metrics.set("mean_steps", test.mean_steps);
-  return test;
-}
-
-// table: the point's state kernels (state_kernel_table), read only when the point
-// is valid (no more kernels than graph nodes); shared: the copy basis's fixed
-// part for table.kernels (null: the fit forms its own).
-FitRecord fit_point(const RunContext& ctx, const SweepPoint& point, const FitTable& table,
-                    const std::shared_ptr<const kernels::ActionBlockFixed>& shared) {
-  const auto started = std::chrono::steady_clock::now();
-  const khepera::Khepera& robot = *ctx.robot;
-  const std::int32_t m = robot.num_actions();
-  if (point.kernels > ctx.graph.nodes) {
-    return invalid_fit(point, ctx.run, ctx.graph, khepera_metric_specs(),
-                       "only " + std::to_string(ctx.graph.nodes) + " SOM units hold samples");
-  }
-  const bool pvf = point.basis == KernelType::pvf;
-  if (pvf && !ctx.eigenbases.of(point.kernels).ok) {
-    return invalid_fit(
-        point, ctx.run, ctx.graph, khepera_metric_specs(),
-        "the Laplacian's eigenpairs are missing: " + ctx.eigenbases.of(point.kernels).message);
-  }
-  FitMetrics metrics(khepera_metric_specs());
-  FitRecord fit;
-  fit.point = point;
-  // A PVF fit has no centres and no kernel gap (NaN); it keeps its eigenvalues.
-  if (!pvf) {
-    fit.centers.assign(ctx.graph.centers.begin(), ctx.graph.centers.begin() + point.kernels);
-  } else {
-    fit.arrays.push_back(eigenvalue_array(ctx.eigenbases.of(point.kernels)));
-  }
-  set_graph_metrics(metrics, ctx.graph,
-                    pvf ? kNaN : fit_kernel_gap(ctx, point.kernels, point.sigma));
-
-  // The copy scheme's table is never formed: fit_lspi_copy_basis reads the state
-  // kernels (the same result bit for bit).
-  const kernels::BasisScheme scheme = pvf ? ctx.job->pvf.actions : ctx.job->basis.scheme;
-  if (scheme == kernels::BasisScheme::shift) {
-    fit.lspi = kernels::fit_lspi(kernels::shift_basis(table.kernels, m, *ctx.model), m, ctx.batch,
-                                 lspi_options(point));
-  } else if (table.row_of_state.empty()) {
-    fit.lspi =
-        kernels::fit_lspi_copy_basis(table.kernels, m, ctx.batch, lspi_options(point), shared);
-  } else {
-    fit.lspi = kernels::fit_lspi_copy_basis(table.kernels, table.row_of_state, m, ctx.batch,
-                                            lspi_options(point));
-  }
-  fit.status = kernels::to_string(fit.lspi.status);
-  fit.message = fit.lspi.message;
-  metrics.set("lspi_iterations", static_cast<double>(fit.lspi.iterations()));
-  if (fit.lspi.weights.size() == 0) {
-    fit.metrics = metrics.named_values();
-    return fit;
-  }
-
-  const ReadingKernels kernels_of(*ctx.som, ctx.occupied, ctx.graph.center_distances, point,
-                                  fit.centers, ctx.job->basis.truncation,
-                                  pvf ? &ctx.eigenbases.of(point.kernels).node_values : nullptr);
-  EpisodeTest test = test_weights(ctx, kernels_of, fit.lspi.weights, metrics, true);
-  fit.metrics = metrics.named_values();
-  for (NamedArray& trajectory : test.trajectories) fit.arrays.push_back(std::move(trajectory));
-  fit.arrays.push_back(
-      {"evaluation/returns", {static_cast<std::int64_t>(test.returns.size())}, test.returns});
-  if (!fit.lspi.iterates.empty()) {
-    // [lspi] evaluate_iterations: history/<tested metric> per iterate.
-    add_iteration_history(fit, khepera_metric_specs(),
-                          [&](const Eigen::VectorXd& w, FitMetrics& iterate) {
-                            test_weights(ctx, kernels_of, w, iterate, false);
-                          });
-  }
-
-  // Fig. 5: the greedy action at every SOM unit's prototype.
-  NamedArray unit_policy{"unit_policy", {ctx.som->num_units()}, {}, ElementType::kInt32};
-  for (std::int32_t u = 0; u < ctx.som->num_units(); ++u) {
-    const auto row = ctx.som->prototypes().row(u);
-    const std::vector<double> prototype(row.data(), row.data() + row.size());
-    unit_policy.values.push_back(greedy_action(fit.lspi.weights, kernels_of(prototype), m));
-  }
-  fit.arrays.push_back(std::move(unit_policy));
-  fit.fit_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  return fit;
-}
-
-// The fits of a run. The fits of one (basis, width, kernel count) differ only in
-// the solver: they share one state-kernel table (built once, freed when they are
-// done, so sharing never holds more tables than a table per fit would) and, in
-// the copy scheme, their system's fixed part (D_a and the start right-hand side,
-// formed once instead of once per solver, the same sums bit for bit). The
-// kernel gap's per-centre sums are formed first, once per width, for the largest
-// valid count.
-std::vector<FitRecord> fit_points(RunContext& ctx, std::span<const SweepPoint> points) {
-  for (const SweepPoint& point : points) {
-    if (point.kernels > ctx.graph.nodes || point.basis == KernelType::pvf) continue;
-    const auto kernels = static_cast<std::size_t>(point.kernels);
-    bool found = false;
-    for (SharedGap& g : ctx.kernel_gaps) {
-      if (g.sigma == point.sigma) {
-        g.per_center.resize(std::max(g.per_center.size(), kernels));
-        found = true;
-      }
-    }
-    if (!found) ctx.kernel_gaps.push_back({point.sigma, std::vector<double>(kernels)});
-  }
-  for (SharedGap& g : ctx.kernel_gaps) {
-    g.per_center = kernel_gap_terms(
-        ctx, std::span<const std::int32_t>(ctx.graph.centers).first(g.per_center.size()), g.sigma);
-  }
-  std::vector<std::vector<std::size_t>> groups;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    auto same = [&](const std::vector<std::size_t>& group) {
-      const SweepPoint& q = points[group.front()];
-      return q.basis == points[i].basis && q.sigma == points[i].sigma &&
-             q.kernels == points[i].kernels;
-    };
-    const auto it = std::find_if(groups.begin(), groups.end(), same);
-    if (it == groups.end()) {
-      groups.push_back({i});
-    } else {
-      it->push_back(i);
-    }
-  }
-  std::vector<FitRecord> fits(points.size());
-  tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
-    const std::vector<std::size_t>& group = groups[g];
-    const SweepPoint& first = points[group.front()];
-    const FitTable table = first.kernels > ctx.graph.nodes
-                               ? FitTable()
-                               : state_kernel_table(ctx, first.basis, first.sigma, first.kernels);
-    const kernels::BasisScheme scheme =
-        first.basis == KernelType::pvf ? ctx.job->pvf.actions : ctx.job->basis.scheme;
-    std::shared_ptr<const kernels::ActionBlockFixed> shared;
-    if (group.size() > 1 && first.kernels <= ctx.graph.nodes &&
-        scheme == kernels::BasisScheme::copy && table.row_of_state.empty() &&
-        table.kernels.isCompressed()) {
-      shared = kernels::ActionBlockSystem::copy_basis_fixed(table.kernels, ctx.robot->num_actions(),
-                                                            ctx.batch);
-    }
-    tbb::parallel_for(std::size_t{0}, group.size(), [&](std::size_t f) {
-      fits[group[f]] = fit_point(ctx, points[group[f]], table, shared);
-    });
-  });
-  return fits;
+  env.new_episode = [&robot] { return std::make_unique<KheperaEpisode>(robot); };
+  env.trace_dimension = 3;  // x, y, heading
+  env.ended_metric = "collision_fraction";
+  env.stop_flags_array = "samples/collisions";
+  env.run_arrays = arena_arrays(robot);
+  env.store_scale = false;  // raw readings (khepera_task_config.hpp)
+  return env;
 }
 
 }  // namespace
 
 const std::vector<MetricSpec>& khepera_metric_specs() {
   static const std::vector<MetricSpec> specs = [] {
-    std::vector<MetricSpec> result = {{"mean_return", MetricKind::kMean, true},
-                                      {"collision_fraction", MetricKind::kFraction, true},
-                                      {"mean_steps", MetricKind::kMean, true}};
-    result.insert(result.end(), graph_metric_specs().begin(), graph_metric_specs().end());
-    return result;
+    ContinuousEnvironment env;
+    env.ended_metric = "collision_fraction";
+    return continuous_metric_specs(env);
   }();
   return specs;
 }
@@ -310,106 +93,20 @@ MetricKind khepera_metric_kind(std::string_view metric) {
 RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::int32_t run,
                       std::span<const SweepPoint> points) {
   const khepera::Khepera robot(config.simulator);
-  RunRecord record;
-  record.run = run;
-  for (std::int32_t a = 0; a < khepera::kNumActions; ++a) {
-    record.action_names.emplace_back(khepera::action_name(a));
-  }
-  record.integer_metrics = integer_metric_names(khepera_metric_specs());
+  return run_continuous_protocol(khepera_environment(robot), config.protocol, job, run, points);
+}
 
-  kernels::RandomStream sample_stream = stream_for(job.seed, run, Purpose::samples);
-  const Walks walks = random_walks(robot, sample_stream);
-  const kernels::SampleBatch& batch = walks.batch;
-  record.samples.actions = batch.actions;
-  record.samples.rewards = batch.rewards;
-  record.samples.terminals = batch.terminals;
-  record.samples.observations.resize(static_cast<Eigen::Index>(batch.size()), khepera::kNumSensors);
-  record.samples.next_observations.resize(static_cast<Eigen::Index>(batch.size()),
-                                          khepera::kNumSensors);
-  for (std::size_t i = 0; i < batch.size(); ++i) {
-    const auto row = static_cast<Eigen::Index>(i);
-    record.samples.observations.row(row) = walks.readings.row(batch.states[i]);
-    record.samples.next_observations.row(row) = walks.readings.row(batch.next_states[i]);
-  }
-  for (NamedArray& array : arena_arrays(robot)) record.arrays.push_back(std::move(array));
-  record.arrays.push_back({"samples/collisions",
-                           {static_cast<std::int64_t>(walks.collisions.size())},
-                           walks.collisions,
-                           ElementType::kUInt8});
-
-  // The SOM on every reading of the walks (paper: 24 x 29 units for 20,000 samples).
-  kernels::SomOptions som_options = config.som;
-  if (config.som_grid_from_samples) {
-    const kernels::SomGrid grid = kernels::som_grid_for(walks.readings);
-    som_options.rows = grid.rows;
-    som_options.cols = grid.cols;
-  }
-  kernels::RandomStream som_stream = stream_for(job.seed, run, Purpose::model);
-  const kernels::SelfOrganizingMap som =
-      kernels::train_self_organizing_map(walks.readings, som_options, &som_stream);
-  const auto& prototypes = som.prototypes();
-  record.arrays.push_back(
-      {"som/prototypes",
-       {prototypes.rows(), prototypes.cols()},
-       std::vector<double>(prototypes.data(), prototypes.data() + prototypes.size())});
-  const kernels::RowMatrixXd grid = som.grid_coordinates();
-  record.arrays.push_back({"som/grid",
-                           {grid.rows(), grid.cols()},
-                           std::vector<double>(grid.data(), grid.data() + grid.size())});
-  record.arrays.push_back({"som/quantization_error",
-                           {static_cast<std::int64_t>(som.quantization_errors().size())},
-                           som.quantization_errors()});
-
-  RunContext ctx;
-  ctx.robot = &robot;
-  ctx.job = &job;
-  ctx.run = run;
-  ctx.walks = &walks;
-  ctx.som = &som;
-  ctx.state_units = som.best_matching_units(walks.readings);
-  ctx.batch = job.lspi.fold_duplicates ? kernels::fold_duplicate_samples(batch) : batch;
-
-  // The graph over units: BMU(s) -> BMU(s') per sample, weight = prototype distance.
-  std::vector<kernels::NodeTransition> transitions(batch.size());
-  std::vector<std::uint8_t> occupied(static_cast<std::size_t>(som.num_units()), 0);
-  for (std::size_t i = 0; i < batch.size(); ++i) {
-    const std::int32_t from = ctx.state_units.units[static_cast<std::size_t>(batch.states[i])];
-    const std::int32_t to = ctx.state_units.units[static_cast<std::size_t>(batch.next_states[i])];
-    transitions[i] = {from, to};
-  }
-  for (std::int32_t u : ctx.state_units.units) occupied[static_cast<std::size_t>(u)] = 1;
-  ctx.occupied = occupied;
-  record.graph = kernels::transition_graph(prototypes, transitions);
-  record.node_states = prototypes;
-  record.arrays.push_back({"graph/occupied",
-                           {static_cast<std::int64_t>(occupied.size())},
-                           std::vector<double>(occupied.begin(), occupied.end()),
-                           ElementType::kUInt8});
-  record.arrays.push_back(
-      {"state_units",
-       {static_cast<std::int64_t>(ctx.state_units.units.size())},
-       std::vector<double>(ctx.state_units.units.begin(), ctx.state_units.units.end()),
-       ElementType::kInt32});
-
-  // Centres: the occupied units in a random order.
-  std::vector<std::int32_t> centers;
-  for (std::int32_t u = 0; u < som.num_units(); ++u) {
-    if (occupied[static_cast<std::size_t>(u)]) centers.push_back(u);
-  }
-  kernels::RandomStream center_stream = stream_for(job.seed, run, Purpose::centers);
-  kernels::shuffle(centers, center_stream);
-  ctx.graph = run_graph(record.graph, occupied, std::move(centers), prototypes, points);
-  ctx.eigenbases = run_eigenbases(record.graph, occupied, job.pvf, points);
-  const bool pvf_shift = job.pvf.actions == kernels::BasisScheme::shift &&
-                         !pvf_counts(points, ctx.graph.nodes).empty();
-  if (job.basis.scheme == kernels::BasisScheme::shift || pvf_shift) {
-    ctx.model = std::make_unique<kernels::EmpiricalTransitionModel>(
-        static_cast<std::int32_t>(walks.readings.rows()), robot.num_actions(), batch.states,
-        batch.actions, batch.next_states);
-  }
-
-  record.fits = fit_points(ctx, points);
-  return record;
+RunMemoryEstimate estimate_khepera_run(const KheperaTaskConfig& config, const JobSpec& job) {
+  ContinuousSizes sizes;
+  sizes.observation_dimension = khepera::kNumSensors;
+  sizes.actions = khepera::kNumActions;
+  sizes.trace_dimension = 3.0;
+  sizes.stop_flags = 1.0;
+  // The arena's arrays for Fig. 4(a): 5 doubles an obstacle at most, and the
+  // robot's 8 sensors (3 numbers, 3 rays of 5, a reading).
+  sizes.simulator_bytes =
+      (static_cast<double>(config.simulator.arena.obstacles.size()) * 5.0 + 8.0 * 19.0 + 9.0) * 8.0;
+  return estimate_continuous_run(sizes, config.protocol, job);
 }
 
 TaskDefinition khepera_task_definition() {

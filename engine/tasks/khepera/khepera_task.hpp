@@ -1,17 +1,12 @@
 #pragma once
-// The Khepera navigation task (paper sec. 4.2): per run, random-walk samples of
-// 8-D IR readings -> self-organising map (the graph's nodes) -> graph over units
-// from the samples' transitions (weight = prototype distance) -> p random centres
-// among the occupied units -> continuous GGK (ED to the best-matching unit plus the
-// shortest path from it) or OGK (ED to the centre's prototype) -> copy basis ->
-// LSPI -> greedy episodes from the fixed start pose (sum of rewards, stopped by a
-// collision).
-//
-// The samples, SOM, graph and distances of a run are shared by all its fits;
-// fits run as oneTBB tasks; streams are keyed by (seed, run, purpose, sweep
-// point), so results are identical for any thread count. The walks and the
-// greedy episodes: khepera_episodes.hpp; the geometry of Fig. 4(a):
-// khepera_arena.hpp; the memory estimate: khepera_memory.hpp.
+// The Khepera navigation task (paper sec. 4.2) on the continuous protocol
+// (engine/tasks/continuous_protocol.hpp): per run, random-walk samples of 8-D IR
+// readings (unscaled) -> self-organising map (the graph's nodes) -> graph over
+// units -> continuous GGK, OGK or PVF -> copy basis -> LSPI -> greedy episodes
+// from the fixed start pose (sum of rewards, stopped by a collision). This task
+// supplies the robot (a pose behind ContinuousEpisode), its actions, its
+// collision flags (samples/collisions) and the geometry of Fig. 4(a)
+// (khepera_arena.hpp).
 
 #include <cstdint>
 #include <span>
@@ -37,6 +32,12 @@ namespace ggk::engine {
 const std::vector<MetricSpec>& khepera_metric_specs();
 const std::vector<std::string>& khepera_metric_names();
 MetricKind khepera_metric_kind(std::string_view metric);
+
+// The walks' readings and samples in their copies, the SOM, the unit graph and
+// distances, per fit the kernel table over every reading and the LSPI system,
+// and the fits' results (episode trajectories): estimate_continuous_run with the
+// robot's sizes and its arena's arrays.
+RunMemoryEstimate estimate_khepera_run(const KheperaTaskConfig& config, const JobSpec& job);
 
 RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::int32_t run,
                       std::span<const SweepPoint> points);

@@ -12,7 +12,6 @@
 
 #include "engine/job/job_file.hpp"
 #include "engine/run/job_runner.hpp"
-#include "engine/tasks/khepera/khepera_memory.hpp"
 #include "engine/tasks/khepera/khepera_task.hpp"
 #include "engine/tasks/record_bytes.hpp"
 #include "engine/tasks/task_list.hpp"

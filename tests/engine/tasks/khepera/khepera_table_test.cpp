@@ -128,14 +128,14 @@ start = { x = 10, y = 10, heading_deg = 0 }
   EXPECT_EQ(config.simulator.steps_per_series, 100);
   EXPECT_EQ(config.simulator.test_max_steps, 150);
   EXPECT_EQ(config.simulator.test_episodes, 10);
-  EXPECT_EQ(config.som.rows, 24);
-  EXPECT_EQ(config.som.cols, 29);
-  EXPECT_EQ(config.som.epochs, 30);
-  EXPECT_FALSE(config.som.initial_radius.has_value());
-  EXPECT_EQ(config.som.final_radius, 1.0);
-  EXPECT_EQ(config.som.radius_schedule, kernels::SomRadiusSchedule::exponential);
-  EXPECT_EQ(config.som.initialization, kernels::SomInitialization::principal_components);
-  EXPECT_FALSE(config.som_grid_from_samples);
+  EXPECT_EQ(config.protocol.som.rows, 24);
+  EXPECT_EQ(config.protocol.som.cols, 29);
+  EXPECT_EQ(config.protocol.som.epochs, 30);
+  EXPECT_FALSE(config.protocol.som.initial_radius.has_value());
+  EXPECT_EQ(config.protocol.som.final_radius, 1.0);
+  EXPECT_EQ(config.protocol.som.radius_schedule, kernels::SomRadiusSchedule::exponential);
+  EXPECT_EQ(config.protocol.som.initialization, kernels::SomInitialization::principal_components);
+  EXPECT_FALSE(config.protocol.som_grid_from_samples);
 }
 
 TEST(KheperaTable, ReadsEveryKey) {
@@ -185,18 +185,18 @@ collision = -5)");
                                   khepera::SensorNoiseModel::threshold, 0.04, 0.0, 30.0, 1000.0}));
   EXPECT_EQ(c.simulator.motion, (khepera::MotionModel{1.0, 30.0, 0.0, 8}));
   EXPECT_EQ(c.simulator.rewards, (khepera::Rewards{2.0, -5.0}));
-  EXPECT_EQ(c.som.rows, 4);
-  EXPECT_EQ(c.som.cols, 5);
-  EXPECT_EQ(c.som.epochs, 12);
-  EXPECT_EQ(c.som.initial_radius, 3.0);
-  EXPECT_EQ(c.som.final_radius, 0.5);
-  EXPECT_EQ(c.som.radius_schedule, kernels::SomRadiusSchedule::linear);
-  EXPECT_EQ(c.som.initialization, kernels::SomInitialization::random_samples);
+  EXPECT_EQ(c.protocol.som.rows, 4);
+  EXPECT_EQ(c.protocol.som.cols, 5);
+  EXPECT_EQ(c.protocol.som.epochs, 12);
+  EXPECT_EQ(c.protocol.som.initial_radius, 3.0);
+  EXPECT_EQ(c.protocol.som.final_radius, 0.5);
+  EXPECT_EQ(c.protocol.som.radius_schedule, kernels::SomRadiusSchedule::linear);
+  EXPECT_EQ(c.protocol.som.initialization, kernels::SomInitialization::random_samples);
 
   const KheperaTaskConfig derived =
       khepera_config(parse_job(with_line(job_with(13, "grid_from_samples = true"), 14, ""),
                                "derived.toml", task_tables(), no_output_check()));
-  EXPECT_TRUE(derived.som_grid_from_samples);
+  EXPECT_TRUE(derived.protocol.som_grid_from_samples);
 }
 
 struct MalformedKhepera {
@@ -592,7 +592,7 @@ TEST_F(ShippedKheperaJob, PaperQuickAndCiJobs) {
   const KheperaTaskConfig& p = khepera_config(paper);
   EXPECT_EQ(p.simulator.series * p.simulator.steps_per_series, 20000);
   EXPECT_EQ(p.simulator.test_max_steps, 150);
-  EXPECT_EQ(p.som.rows * p.som.cols, 696);
+  EXPECT_EQ(p.protocol.som.rows * p.protocol.som.cols, 696);
 
   for (const char* name : {"khepera-quick", "ci-khepera"}) {
     SCOPED_TRACE(name);

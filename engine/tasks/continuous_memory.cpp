@@ -1,24 +1,20 @@
-#include "engine/tasks/khepera/khepera_memory.hpp"
-
 #include <algorithm>
 #include <cstdint>
 #include <vector>
 
 #include "engine/job/sweep.hpp"
+#include "engine/tasks/continuous_protocol.hpp"
 #include "engine/tasks/pvf_basis.hpp"
-#include "sims/khepera/khepera.hpp"
 
 namespace ggk::engine {
 
-namespace khepera = sims::khepera;
-
-RunMemoryEstimate estimate_khepera_run(const KheperaTaskConfig& config, const JobSpec& job) {
-  const auto& c = config.simulator;
-  const double d = khepera::kNumSensors, m = khepera::kNumActions;
-  const double n = static_cast<double>(c.series) * c.steps_per_series;  // samples
-  const double readings = static_cast<double>(c.series) * (c.steps_per_series + 1.0);
-  kernels::SomGrid grid{config.som.rows, config.som.cols};
-  if (config.som_grid_from_samples)
+RunMemoryEstimate estimate_continuous_run(const ContinuousSizes& sizes,
+                                          const ContinuousProtocol& protocol, const JobSpec& job) {
+  const double d = sizes.observation_dimension, m = sizes.actions;
+  const double n = static_cast<double>(protocol.series) * protocol.steps_per_series;  // samples
+  const double readings = static_cast<double>(protocol.series) * (protocol.steps_per_series + 1.0);
+  kernels::SomGrid grid{protocol.som.rows, protocol.som.cols};
+  if (protocol.som_grid_from_samples)
     grid = kernels::som_grid_for(static_cast<std::int64_t>(readings));
   const double units = static_cast<double>(grid.rows) * grid.cols;
   const std::vector<SweepPoint> points = expand_sweep(job);
@@ -28,26 +24,26 @@ RunMemoryEstimate estimate_khepera_run(const KheperaTaskConfig& config, const Jo
   const bool shift = job.basis.scheme == kernels::BasisScheme::shift;
 
   RunMemoryEstimate estimate;
-  // Readings (d doubles each) with their best-matching units (and as doubles in
-  // the record); samples: the walks' batch and collision flags (grown by
-  // doubling), their copy in the record (observations as readings), the LSPI
-  // batch (every reading is its own state: folding keeps every sample) and the
-  // graph's transition list; then first the folding's hash map or the graph's
-  // edge lists; the shift scheme's transition model over the readings.
-  const double record_samples = n * (2.0 * d * 8.0 + 13.0 + 8.0);
+  // Observations (d doubles each, and their scaled copy) with their
+  // best-matching units (and as doubles in the record); samples: the walks'
+  // batch and stop flags (grown by doubling), their copy in the record, the LSPI
+  // batch (every observation is its own state: folding keeps every sample) and
+  // the graph's transition list; then first the folding's hash map or the
+  // graph's edge lists; the shift scheme's transition model over the observations.
+  const double record_samples = n * (2.0 * d * 8.0 + 13.0 + 8.0 * sizes.stop_flags);
   estimate.add(
       count_text(n) + " samples per run (series x steps_per_series)",
-      readings * (d * 8.0 + 12.0 + 8.0) + sample_batch_bytes(n) + 16.0 * n + record_samples +
-          sample_batch_bytes(n) + 8.0 * n +
+      readings * (2.0 * d * 8.0 + 12.0 + 8.0) + sample_batch_bytes(n) +
+          16.0 * sizes.stop_flags * n + record_samples + sample_batch_bytes(n) + 8.0 * n +
           std::max(job.lspi.fold_duplicates ? folding_bytes(n, n) : 0.0, graph_building_bytes(n)) +
           (shift ? readings * m * 8.0 + 20.0 * n : 0.0));
   // The SOM: training (prototypes, their dimension-major copy, the per-unit sums
-  // and two smoothing passes over them: 43 doubles a unit) bounds what the map
-  // keeps afterwards (prototypes twice, in the record, as graph nodes, grid).
-  // Plus the unit graph.
+  // and two smoothing passes over them: about 5 d + 3 doubles a unit) bounds
+  // what the map keeps afterwards (prototypes twice, in the record, as graph
+  // nodes, grid). Plus the unit graph.
   estimate.add("a " + count_text(grid.rows) + " x " + count_text(grid.cols) + " SOM (" +
                    count_text(units) + " units)",
-               units * 43.0 * 8.0 + graph_bytes(n, units));
+               units * (5.0 * d + 3.0) * 8.0 + graph_bytes(n, units));
   estimate.add("the geodesic distances from " + count_text(max_kernels) + " centres to " +
                    count_text(units) + " units",
                max_kernels * units * 8.0);
@@ -68,27 +64,31 @@ RunMemoryEstimate estimate_khepera_run(const KheperaTaskConfig& config, const Jo
                  units * (2.0 * pvf_vectors + 2.0 * largest_count + 20.0) * 8.0 +
                      11.0 * (2.0 * n + units) * 12.0);
   }
-  // The kernel gap's two distance rows (a double per reading each) per centre in
-  // flight while its per-centre sums are formed (two: one per thread of -j 2).
-  estimate.add("the kernel gap's distance rows (" + count_text(readings) + " readings)",
+  // The kernel gap's two distance rows (a double per observation each) per
+  // centre in flight while its per-centre sums are formed (two: one per thread
+  // of -j 2).
+  estimate.add("the kernel gap's distance rows (" + count_text(readings) + " observations)",
                2.0 * readings * 16.0);
   // A fit's state kernels, shared with the fits of the other solvers at the
   // same basis, width and kernel count; the shift scheme forms its m-row
   // feature table from them.
   estimate.add_per_fit(
       shift ? "the kernel and feature tables of a fit with " + count_text(max_kernels) +
-                  " kernels (" + count_text(readings) + " readings x " + count_text(m) + " actions)"
+                  " kernels (" + count_text(readings) + " observations x " + count_text(m) +
+                  " actions)"
             : "the state kernels of a fit with " + count_text(max_kernels) + " kernels (" +
-                  count_text(readings) + " readings; the copy scheme forms no feature table)",
+                  count_text(readings) +
+                  " observations; the copy scheme forms no feature table)",
       shift ? kernel_and_feature_bytes(readings, max_kernels, m)
             : kernel_table_bytes(readings, max_kernels));
   estimate.add_per_fit("the LSPI system of a fit with " + count_text(m) + " x " +
                            count_text(max_kernels) + " basis functions",
                        lspi_bytes(readings, max_kernels, m, n));
   // The fits' results: LSPI systems, policies, the greedy action per unit, and
-  // the episodes' trajectories (up to test_max_steps + 1 poses of 3 doubles,
-  // grown by doubling).
-  const double episodes = static_cast<double>(c.test_episodes) * (c.test_max_steps + 1.0) * 48.0;
+  // the episodes' trajectories (up to test_max_steps + 1 points of
+  // trace_dimension doubles, grown by doubling).
+  const double episodes = static_cast<double>(protocol.test_episodes) *
+                          (protocol.test_max_steps + 1.0) * sizes.trace_dimension * 16.0;
   double fits = 0.0;
   for (const SweepPoint& p : points) {
     fits += fit_record_bytes(readings, std::min<double>(p.kernels, units), m,
@@ -96,12 +96,8 @@ RunMemoryEstimate estimate_khepera_run(const KheperaTaskConfig& config, const Jo
             episodes + units * 8.0;
   }
   estimate.add("the results of " + count_text(static_cast<double>(points.size())) + " fits", fits);
-  // The arena's arrays for Fig. 4(a): 5 doubles an obstacle at most, and the
-  // robot's 8 sensors (3 numbers, 3 rays of 5, a reading).
-  const double arena =
-      (static_cast<double>(c.arena.obstacles.size()) * 5.0 + 8.0 * 19.0 + 9.0) * 8.0;
-  estimate.record_bytes = record_samples + readings * 8.0 + units * (80.0 + 64.0 + 8.0) +
-                          graph_bytes(n, units) + fits + arena;
+  estimate.record_bytes = record_samples + readings * 8.0 + units * (16.0 * d + 24.0) +
+                          graph_bytes(n, units) + fits + sizes.simulator_bytes;
   return estimate;
 }
 
