@@ -38,7 +38,7 @@ constexpr std::array kSchemas = {
     DatasetSchema{"graph/visited", "node", "flag",
                   "1 if a sample starts or ends there (maze, arm)"},
     DatasetSchema{"graph/occupied", "node", "flag",
-                  "1 if a reading has the SOM unit as its BMU (khepera)"},
+                  "1 if a reading has the SOM unit as its BMU (khepera)", "khepera"},
     DatasetSchema{"grid/state_of", "shoulder,elbow", "node id",
                   "arm: the state of each joint-grid cell, -1 = collision"},
     DatasetSchema{"grid/goal", "shoulder,elbow", "flag", "arm: 1 where the cell is a goal state"},
@@ -56,14 +56,14 @@ constexpr std::array kSchemas = {
     DatasetSchema{"workspace/goal_poses_deg", "goal,joint", "degrees",
                   "arm: shoulder and elbow angle of each goal pose"},
     DatasetSchema{"som/prototypes", "node,sensor", "IR reading",
-                  "khepera: the prototype of each SOM unit"},
+                  "khepera: the prototype of each SOM unit", "khepera"},
     DatasetSchema{"som/grid", "node,grid_axis", "index",
-                  "khepera: (row, column) of each unit on the SOM grid"},
+                  "khepera: (row, column) of each unit on the SOM grid", "khepera"},
     DatasetSchema{"som/quantization_error", "epoch", "IR reading",
-                  "khepera: mean distance to the BMU after each epoch"},
+                  "khepera: mean distance to the BMU after each epoch", "khepera"},
     DatasetSchema{"state_units", "state", "node id",
                   "khepera: the BMU of every reading of the walks (series k, reading t: row "
-                  "k (steps + 1) + t)"},
+                  "k (steps + 1) + t)", "khepera"},
     DatasetSchema{"arena/box", "box_field", "cm", "khepera: min x, min y, max x, max y, walled"},
     DatasetSchema{"arena/segments", "segment,segment_field", "cm", "khepera: a x, a y, b x, b y"},
     DatasetSchema{"arena/rectangles", "rectangle,corner_xy", "cm",
@@ -79,6 +79,22 @@ constexpr std::array kSchemas = {
                   "khepera: three rays per sensor at the start pose: from x, y, to x, y, seen"},
     DatasetSchema{"robot/start_readings", "sensor", "IR reading",
                   "khepera: the noiseless readings at the start pose"},
+    // continuous tasks (engine/tasks/continuous_protocol.hpp) other than the Khepera
+    DatasetSchema{"observation_scale", "observation_dim", "task state units",
+                  "the divisor of each observation dimension before the SOM and the kernels "
+                  "([<task>.scale])"},
+    DatasetSchema{"som/prototypes", "node,observation_dim", "scaled state units",
+                  "the prototype of each SOM unit (observation / observation_scale)"},
+    DatasetSchema{"som/grid", "node,grid_axis", "index", "(row, column) of each unit on the SOM grid"},
+    DatasetSchema{"som/quantization_error", "epoch", "scaled state units",
+                  "mean distance to the BMU after each epoch"},
+    DatasetSchema{"state_units", "state", "node id",
+                  "the BMU of every observation of the walks, in series order"},
+    DatasetSchema{"graph/occupied", "node", "flag", "1 if an observation has the SOM unit as its BMU"},
+    DatasetSchema{"fit:unit_policy", "node", "action code", "greedy action at each SOM unit's prototype"},
+    DatasetSchema{"fit:evaluation/returns", "episode", "reward", "the return of each test episode"},
+    DatasetSchema{"fit:evaluation/trajectory_*", "step,state_field", "task state units",
+                  "the simulator's state along the test episode, the start first (sims/<task>/README.md)"},
     DatasetSchema{"optimal_actions", "state,action", "flag",
                   "chain: 1 where the action is optimal by value iteration"},
     DatasetSchema{"fit_metrics", "row", "", "one row per fit of this run (the summary's columns)"},
@@ -95,11 +111,11 @@ constexpr std::array kSchemas = {
     DatasetSchema{"fit:trajectory_*", "step", "node id",
                   "the states of the greedy walk from the named start, the start first"},
     DatasetSchema{"fit:unit_policy", "node", "action code",
-                  "khepera: greedy action at each SOM unit's prototype"},
+                  "khepera: greedy action at each SOM unit's prototype", "khepera"},
     DatasetSchema{"fit:evaluation/returns", "episode", "reward",
-                  "khepera: the return of each evaluation episode"},
+                  "khepera: the return of each evaluation episode", "khepera"},
     DatasetSchema{"fit:evaluation/trajectory_*", "step,pose", "cm, rad",
-                  "khepera: x, y, heading of the episode's poses from the start"},
+                  "khepera: x, y, heading of the episode's poses from the start", "khepera"},
     DatasetSchema{"fit:history/policy_changes", "iteration", "states",
                   "states whose greedy action changed"},
     DatasetSchema{"fit:history/weight_change", "iteration", "", "L2 norm of w_k - w_(k-1)"},
@@ -124,12 +140,15 @@ bool matches(std::string_view pattern, std::string_view path) {
   return pattern == path;
 }
 
-const DatasetSchema* find_schema(std::string_view key) {
-  for (const DatasetSchema& schema : kSchemas) {
-    if (schema.path == key) return &schema;
-  }
-  for (const DatasetSchema& schema : kSchemas) {
-    if (matches(schema.path, key)) return &schema;
+// The task's own entry first, then the entry for every task; exact paths before patterns.
+const DatasetSchema* find_schema(std::string_view key, std::string_view task) {
+  for (const bool exact : {true, false}) {
+    for (const std::string_view owner : {task, std::string_view()}) {
+      for (const DatasetSchema& schema : kSchemas) {
+        if (schema.task != owner) continue;
+        if (exact ? schema.path == key : matches(schema.path, key)) return &schema;
+      }
+    }
   }
   return nullptr;
 }
@@ -149,18 +168,18 @@ void describe(Hdf5File::Object& object, std::string_view dims, std::string_view 
 
 // Describes `object` (at `relative` below the run group) and every dataset below
 // it, each object opened once through its open parent.
-void describe_below(Hdf5File::Object& object, const std::string& relative) {
+void describe_below(Hdf5File::Object& object, const std::string& relative, std::string_view task) {
   if (object.kind() == Hdf5File::ObjectKind::kGroup) {
     for (const std::string& member : object.member_names()) {
       std::optional<Hdf5File::Object> child = object.hard_member(member);
       if (!child) {
         throw std::logic_error(object.path() + "/" + member + " is not a hard link");
       }
-      describe_below(*child, relative.empty() ? member : relative + "/" + member);
+      describe_below(*child, relative.empty() ? member : relative + "/" + member, task);
     }
     return;
   }
-  const DatasetSchema* schema = dataset_schema(relative);
+  const DatasetSchema* schema = dataset_schema(relative, task);
   if (schema == nullptr) {
     throw std::logic_error("dataset '" + relative +
                            "' has no entry in engine/store/dataset_schema.cpp");
@@ -180,7 +199,7 @@ std::span<const DatasetSchema> dataset_schemas() {
   return kSchemas;
 }
 
-const DatasetSchema* dataset_schema(std::string_view relative) {
+const DatasetSchema* dataset_schema(std::string_view relative, std::string_view task) {
   // fits/<basis>/<point>/rest -> "fit:rest"
   if (relative.starts_with("fits/")) {
     const std::size_t basis_end = relative.find('/', 5);
@@ -189,16 +208,16 @@ const DatasetSchema* dataset_schema(std::string_view relative) {
     if (point_end == std::string_view::npos) return nullptr;
     std::string key(kFitPrefix);
     key += relative.substr(point_end + 1);
-    return find_schema(key);
+    return find_schema(key, task);
   }
   if (relative.starts_with(kFitPrefix)) return nullptr;
-  return find_schema(relative);
+  return find_schema(relative, task);
 }
 
-void describe_datasets(Hdf5File& file, const std::string& run_group) {
+void describe_datasets(Hdf5File& file, const std::string& run_group, std::string_view task) {
   std::optional<Hdf5File::Object> group = file.open_hard_link(run_group);
   if (!group) throw std::logic_error(run_group + " is not a hard link");
-  describe_below(*group, "");
+  describe_below(*group, "", task);
 }
 
 void describe_table(Hdf5File& file, const std::string& path, std::string_view description) {
@@ -209,14 +228,16 @@ void describe_table(Hdf5File& file, const std::string& path, std::string_view de
 
 std::string dataset_schema_markdown() {
   std::string text =
-      "| dataset | dims | units | description |\n"
+      "| dataset (task: that task's entry; else every task's) | dims | units | description |\n"
       "|---|---|---|---|\n";
   for (const DatasetSchema& schema : kSchemas) {
     std::string path(schema.path);
     if (path.starts_with(kFitPrefix)) {
       path = "fits/<basis>/<point>/" + path.substr(kFitPrefix.size());
     }
-    text += "| `" + path + "` | " + std::string(schema.dims) + " | " + std::string(schema.units) +
+    if (!schema.task.empty()) path += "` (" + std::string(schema.task) + ")";
+    else path += "`";
+    text += "| `" + path + " | " + std::string(schema.dims) + " | " + std::string(schema.units) +
             " | " + std::string(schema.description) + " |\n";
   }
   return text;

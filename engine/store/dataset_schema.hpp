@@ -37,20 +37,23 @@ struct DatasetSchema {
   std::string_view dims;  // comma-separated axis names, one per dimension
   std::string_view units;
   std::string_view description;
+  std::string_view task = {};  // empty: every task's; a task's name: that task's own, first
 };
 
 // Every entry, run datasets first, in the order results/README.md lists them.
 std::span<const DatasetSchema> dataset_schemas();
 
-// The entry of a dataset at `relative` below a run group ("samples/actions",
-// "fits/ggk/k_0016_sigma5_brm_lambda1e-06/history/rcond"), or nullptr.
-const DatasetSchema* dataset_schema(std::string_view relative);
+// The entry of a dataset at `relative` below a run group of `task`
+// ("samples/actions", "fits/ggk/k_0016_sigma5_brm_lambda1e-06/history/rcond"):
+// the task's own entry if it has one, else the entry for every task; nullptr
+// when neither exists.
+const DatasetSchema* dataset_schema(std::string_view relative, std::string_view task = {});
 
 // Writes `dims`, `units` and `description` on every dataset below `run_group`
 // (call it before the run's digest is taken). A dataset without an entry, or
 // whose rank differs from its entry's axes, is a programmer error
 // (std::logic_error naming it and this file).
-void describe_datasets(Hdf5File& file, const std::string& run_group);
+void describe_datasets(Hdf5File& file, const std::string& run_group, std::string_view task);
 
 // Describes a table (fit_metrics, summary): axis `row`.
 void describe_table(Hdf5File& file, const std::string& path, std::string_view description);

@@ -291,6 +291,10 @@ std::vector<MetricSpec> continuous_metric_specs(const ContinuousEnvironment& env
   return specs;
 }
 
+MetricKind continuous_metric_kind(std::string_view ended_metric, std::string_view metric) {
+  return metric == ended_metric ? MetricKind::kFraction : MetricKind::kMean;
+}
+
 RunRecord run_continuous_protocol(const ContinuousEnvironment& env,
                                   const ContinuousProtocol& protocol, const JobSpec& job,
                                   std::int32_t run, std::span<const SweepPoint> points) {

@@ -24,6 +24,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/job/job_spec.hpp"
@@ -108,6 +109,10 @@ struct ContinuousProtocol {
 // the units' prototypes; the kernel gap over every observation of the walks, GGK
 // in its continuous form).
 std::vector<MetricSpec> continuous_metric_specs(const ContinuousEnvironment& env);
+
+// The kind of `metric` of a continuous task whose ended metric is `ended_metric`:
+// that one a fraction of the episodes, every other a mean.
+MetricKind continuous_metric_kind(std::string_view ended_metric, std::string_view metric);
 
 // The runs: one run of the protocol for every sweep point. Throws only on
 // programmer errors; a fit that cannot start (more kernels than occupied units,

@@ -49,8 +49,10 @@ void read_som(const TomlTableReader& task_table, ContinuousProtocol& protocol) {
   const TomlTableReader table = task_table.subtable_or_empty("som", kSomKeys);
   const std::int64_t readings = observations_per_run(protocol);
   kernels::SomOptions& som = protocol.som;
+  // A grid given by rows or cols is the grid unless grid_from_samples says otherwise.
+  const bool grid_given = table.has("rows") || table.has("cols");
   protocol.som_grid_from_samples =
-      table.boolean("grid_from_samples", protocol.som_grid_from_samples);
+      table.boolean("grid_from_samples", protocol.som_grid_from_samples && !grid_given);
   if (protocol.som_grid_from_samples) {
     for (const std::string_view key : {"rows", "cols"}) {
       if (table.has(key)) {

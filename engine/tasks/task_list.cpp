@@ -2,10 +2,13 @@
 
 #include <vector>
 
+#include "engine/tasks/acrobot/acrobot_task.hpp"
 #include "engine/tasks/arm/arm_task.hpp"
 #include "engine/tasks/chain/chain_task.hpp"
 #include "engine/tasks/khepera/khepera_task.hpp"
 #include "engine/tasks/maze/maze_task.hpp"
+#include "engine/tasks/mountain_car/mountain_car_task.hpp"
+#include "engine/tasks/pendulum/pendulum_task.hpp"
 
 namespace ggk::engine {
 
@@ -18,6 +21,9 @@ const std::vector<TaskDefinition>& all_tasks() {
       arm_task_definition(),
       khepera_task_definition(),
       chain_task_definition(),
+      pendulum_task_definition(),
+      mountain_car_task_definition(),
+      acrobot_task_definition(),
   };
   return tasks;
 }

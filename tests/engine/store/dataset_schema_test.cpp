@@ -37,7 +37,12 @@ TEST(DatasetSchema, FindsRunAndFitDatasets) {
   EXPECT_EQ(dataset_schema(fit + "history/success_rate")->dims, "iteration");  // history/*
   EXPECT_EQ(dataset_schema(fit + "steps_to_goal")->dims, "start");
   EXPECT_EQ(dataset_schema(fit + "trajectory_A")->dims, "step");
-  EXPECT_EQ(dataset_schema(fit + "evaluation/trajectory_3")->dims, "step,pose");
+  // A task's own entry first (the Khepera's poses), else every task's.
+  EXPECT_EQ(dataset_schema(fit + "evaluation/trajectory_3", "khepera")->dims, "step,pose");
+  EXPECT_EQ(dataset_schema(fit + "evaluation/trajectory_3", "pendulum")->dims, "step,state_field");
+  EXPECT_EQ(dataset_schema(fit + "evaluation/trajectory_3")->dims, "step,state_field");
+  EXPECT_EQ(dataset_schema("som/prototypes", "khepera")->units, "IR reading");
+  EXPECT_EQ(dataset_schema("samples/actions", "khepera")->dims, "sample");
   EXPECT_EQ(dataset_schema("steps_to_goal"), nullptr);  // a fit's, not a run's
   EXPECT_EQ(dataset_schema("fit:policy"), nullptr);
   EXPECT_EQ(dataset_schema("no_such_array"), nullptr);

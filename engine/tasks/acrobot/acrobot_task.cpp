@@ -1,0 +1,119 @@
+#include "engine/tasks/acrobot/acrobot_task.hpp"
+
+#include <algorithm>
+#include <array>
+#include <memory>
+#include <numbers>
+#include <string_view>
+
+#include "engine/tasks/continuous_protocol.hpp"
+#include "engine/tasks/continuous_table.hpp"
+#include "sims/acrobot/acrobot.hpp"
+
+namespace ggk::engine {
+
+namespace {
+
+namespace acrobot = sims::acrobot;
+
+struct AcrobotTask {
+  acrobot::AcrobotConfig acrobot;
+  bool walk_from_reset = false;
+  ContinuousProtocol protocol;
+};
+
+constexpr std::array<std::string_view, 9> kKeys = {
+    "series", "steps_per_series", "test_episodes", "test_max_steps", "som",
+    "scale",  "torque_noise",     "dt",            "walk_start"};
+constexpr std::array<std::string_view, 2> kWalkStarts = {"state_box", "reset"};
+// Gymnasium's observation box: cos and sin in [-1, 1], velocities in +-4 pi, +-9 pi.
+constexpr std::array<ObservationDimension, 6> kDimensions = {
+    {{"cos_theta1", 2.0},
+     {"sin_theta1", 2.0},
+     {"cos_theta2", 2.0},
+     {"sin_theta2", 2.0},
+     {"velocity1", 2.0 * acrobot::kMaxVelocity1},
+     {"velocity2", 2.0 * acrobot::kMaxVelocity2}}};
+
+AcrobotTask parse_table(const TomlTableReader& job) {
+  const TomlTableReader table = job.subtable_or_empty("acrobot", kKeys);
+  AcrobotTask task;
+  task.acrobot.torque_noise =
+      table.number("torque_noise", NumberRange::at_least(0.0), task.acrobot.torque_noise);
+  task.acrobot.dt = table.number("dt", NumberRange::above(0.0), task.acrobot.dt);
+  task.walk_from_reset = table.choice("walk_start", kWalkStarts, "state_box") == "reset";
+  ContinuousProtocol defaults;
+  defaults.series = 200;
+  defaults.steps_per_series = 100;
+  defaults.test_episodes = 10;
+  defaults.test_max_steps = 500;  // Gymnasium's TimeLimit for Acrobot-v1
+  defaults.som_grid_from_samples = true;
+  task.protocol = read_continuous_protocol(table, defaults, kDimensions);
+  check_kernel_widths(job, continuous_distance_scale(task.protocol, 6));
+  return task;
+}
+
+class AcrobotEpisode final : public ContinuousEpisode {
+ public:
+  explicit AcrobotEpisode(const AcrobotTask& task) : task_(task) {}
+  void start_walk(kernels::RandomStream& random, std::span<double> observation) override {
+    if (task_.walk_from_reset) return start_test(random, observation);
+    constexpr double kPi = std::numbers::pi;
+    state_ = {random.uniform(-kPi, kPi), random.uniform(-kPi, kPi),
+              random.uniform(-acrobot::kMaxVelocity1, acrobot::kMaxVelocity1),
+              random.uniform(-acrobot::kMaxVelocity2, acrobot::kMaxVelocity2)};
+    observe(observation);
+  }
+  void start_test(kernels::RandomStream& random, std::span<double> observation) override {
+    for (double& x : state_) x = random.uniform(-0.1, 0.1);  // Gymnasium's reset
+    observe(observation);
+  }
+  ContinuousStep step(std::int32_t action, kernels::RandomStream& random,
+                      std::span<double> observation) override {
+    const double noise = task_.acrobot.torque_noise;
+    const double torque = (action - 1) + (noise > 0.0 ? random.uniform(-noise, noise) : 0.0);
+    state_ = acrobot::step(task_.acrobot, state_, torque);
+    observe(observation);
+    const bool up = acrobot::tip_above_bar(state_);
+    return {up ? 0.0 : -1.0, up, false, false};
+  }
+  void trace(std::vector<double>& out) const override {
+    out.insert(out.end(), state_.begin(), state_.end());
+  }
+
+ private:
+  void observe(std::span<double> observation) const {
+    const std::array<double, 6> o = acrobot::observation(state_);
+    std::copy(o.begin(), o.end(), observation.begin());
+  }
+  const AcrobotTask& task_;
+  acrobot::State state_{};
+};
+
+RunRecord run(const JobSpec& job, std::int32_t run, std::span<const SweepPoint> points) {
+  const auto& task = task_config_as<AcrobotTask>(job);
+  ContinuousEnvironment env;
+  env.observation_dimension = 6;
+  env.num_actions = acrobot::kNumActions;
+  env.action_names = {"torque_minus", "torque_zero", "torque_plus"};
+  env.new_episode = [&task] { return std::make_unique<AcrobotEpisode>(task); };
+  env.trace_dimension = 4;
+  env.ended_metric = "success_rate";
+  return run_continuous_protocol(env, task.protocol, job, run, points);
+}
+
+}  // namespace
+
+TaskDefinition acrobot_task_definition() {
+  return {{"acrobot",
+           [](const TomlTableReader& job, const std::filesystem::path&,
+              std::vector<JobInput>&) -> std::any { return parse_table(job); }},
+          run,
+          [](const JobSpec& job) {
+            const ContinuousSizes sizes{6.0, acrobot::kNumActions, 4.0, 0.0, 0.0};
+            return estimate_continuous_run(sizes, task_config_as<AcrobotTask>(job).protocol, job);
+          },
+          [](std::string_view metric) { return continuous_metric_kind("success_rate", metric); }};
+}
+
+}  // namespace ggk::engine
