@@ -11,8 +11,11 @@ namespace ggk::engine {
 RunMemoryEstimate estimate_continuous_run(const ContinuousSizes& sizes,
                                           const ContinuousProtocol& protocol, const JobSpec& job) {
   const double d = sizes.observation_dimension, m = sizes.actions;
-  const double n = static_cast<double>(protocol.series) * protocol.steps_per_series;  // samples
-  const double readings = static_cast<double>(protocol.series) * (protocol.steps_per_series + 1.0);
+  const double steps = sizes.series_steps > 0.0
+                           ? std::min<double>(sizes.series_steps, protocol.steps_per_series)
+                           : protocol.steps_per_series;
+  const double n = static_cast<double>(protocol.series) * steps;  // samples
+  const double readings = static_cast<double>(protocol.series) * (steps + 1.0);
   kernels::SomGrid grid{protocol.som.rows, protocol.som.cols};
   if (protocol.som_grid_from_samples)
     grid = kernels::som_grid_for(static_cast<std::int64_t>(readings));

@@ -128,6 +128,10 @@ struct ContinuousSizes {
   double trace_dimension = 1.0;
   double stop_flags = 0.0;       // 1 when the walks' stop flags are stored
   double simulator_bytes = 0.0;  // what the simulator and its run arrays hold
+  // The steps a series counts where episodes end long before steps_per_series
+  // (the pendulum's random episodes fall after about 9 steps): the estimate
+  // follows the samples a run makes; 0: steps_per_series.
+  double series_steps = 0.0;
 };
 
 // The peak memory of one run (run_memory.hpp) from the job's sizes alone: the

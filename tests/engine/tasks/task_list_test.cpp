@@ -6,13 +6,17 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "engine/job/job_error.hpp"
 #include "engine/job/job_file.hpp"
+#include "engine/run/job_runner.hpp"
+#include "engine/tasks/record_bytes.hpp"
 #include "engine/tasks/discrete_protocol.hpp"
 #include "engine/tasks/khepera/khepera_task.hpp"
 
@@ -61,6 +65,40 @@ TEST(KernelWidths, EveryTaskRefusesWidthsItsDistancesCannotUse) {
   }
 }
 
+// Every registered task's estimate covers what one run of its shipped CI job
+// (jobs/ci*.toml) holds in its record, so a new task cannot ship an estimate
+// that the runner's memory check would trust below the truth.
+TEST(MemoryCheck, EveryTasksEstimateCoversItsCiRecord) {
+  const char* source_dir = std::getenv("GGK_SOURCE_DIR");
+  if (source_dir == nullptr) GTEST_SKIP() << "GGK_SOURCE_DIR is not set (run through ctest)";
+  std::set<std::string> checked;
+  std::vector<fs::path> jobs;
+  for (const auto& entry : fs::directory_iterator(fs::path(source_dir) / "jobs")) {
+    if (entry.path().filename().string().starts_with("ci")) jobs.push_back(entry.path());
+  }
+  std::sort(jobs.begin(), jobs.end());
+  for (const fs::path& path : jobs) {
+    JobLoadOptions options;
+    options.check_output = false;
+    JobSpec job;
+    try {
+      job = load_job_file(path, task_tables(), options);
+    } catch (const JobError&) {
+      continue;  // a study
+    }
+    if (!checked.insert(job.task).second) continue;
+    SCOPED_TRACE(path.string());
+    const RunMemoryEstimate estimate = find_task(job.task)->estimate_run_bytes(job);
+    const double held = record_bytes(compute_run(job, 0));
+    EXPECT_GE(estimate.record_bytes, held);
+    EXPECT_GE(estimate.peak(1.0), held);
+  }
+  for (const TaskDefinition& task : registered_tasks()) {
+    EXPECT_EQ(checked.count(std::string(task.table.name)), 1u)
+        << "no CI job (jobs/ci*.toml) runs task " << task.table.name;
+  }
+}
+
 TEST(MetricKind, EachTaskDeclaresItsRatesAndFractions) {
   EXPECT_EQ(metric_kind("maze", "success_rate"), MetricKind::kFraction);  // of the states
   EXPECT_EQ(metric_kind("arm", "success_rate"), MetricKind::kFraction);
@@ -69,6 +107,11 @@ TEST(MetricKind, EachTaskDeclaresItsRatesAndFractions) {
   EXPECT_EQ(metric_kind("khepera", "collision_fraction"), MetricKind::kFraction);  // of episodes
   EXPECT_EQ(metric_kind("khepera", "mean_return"), MetricKind::kMean);
   EXPECT_EQ(metric_kind("chain", "optimal_action_fraction"), MetricKind::kFraction);
+  EXPECT_EQ(metric_kind("pendulum", "fall_fraction"), MetricKind::kFraction);  // of episodes
+  EXPECT_EQ(metric_kind("pendulum", "mean_steps"), MetricKind::kMean);
+  EXPECT_EQ(metric_kind("mountain_car", "success_rate"), MetricKind::kFraction);
+  EXPECT_EQ(metric_kind("acrobot", "success_rate"), MetricKind::kFraction);
+  EXPECT_EQ(metric_kind("acrobot", "mean_return"), MetricKind::kMean);
 }
 
 TEST(MetricKind, EveryOtherMetricIsAMean) {
