@@ -18,7 +18,8 @@ A claim that has no number (a figure the paper shows and describes) says so.
 
 Files are recognised by what they hold, not by name: the maze's task (ggk's
 addition, the GGK papers' artificial task: rows only where a maze file is given),
-the arm's task, and the Khepera's task with its rotation step (khepera.motion.turn_deg: 15 is the
+the arm's task, the classic continuous tasks (pendulum, mountain car, acrobot:
+ggk's additions, rows only where a file is given), and the Khepera's task with its rotation step (khepera.motion.turn_deg: 15 is the
 paper's job, 30 and 45 the rotation-step study: one file holds a step per run
 configuration, jobs/khepera-study.toml). With --results DIR (default results/)
 the paper's files maze.h5, arm-paper.h5, khepera-paper.h5 and khepera-study.h5 are used
@@ -51,6 +52,18 @@ PAPER_FILES = {
     "khepera-30": ("khepera-study.h5", "jobs/khepera-study.toml"),
     "khepera-45": ("khepera-study.h5", "jobs/khepera-study.toml"),
 }
+# The classic continuous tasks (ggk's additions, jobs/README.md): their file, job,
+# the metric their rows compare, how it reads, and its scale and unit.
+CONTINUOUS = {
+    "pendulum": ("pendulum.h5", "jobs/pendulum.toml", "mean_steps",
+                 "balancing steps of the test episodes (at most 3000)", 1, "",
+                 "Lagoudakis & Parr's inverted pendulum"),
+    "mountain_car": ("mountain-car.h5", "jobs/mountain-car.toml", "success_rate",
+                     "success within 200 steps", 100, " %", "the mountain car"),
+    "acrobot": ("acrobot.h5", "jobs/acrobot.toml", "success_rate",
+                "success within 500 steps", 100, " %", "the acrobot"),
+}
+PAPER_FILES.update({task: spec[:2] for task, spec in CONTINUOUS.items()})
 TURN_AXIS = "khepera.motion.turn_deg"  # the rotation-step study's axis (jobs/khepera-study.toml)
 DEFAULT_TURN_DEG = 15.0  # jobs/README.md, [khepera.motion] turn_deg
 FIGURE_KERNELS = 128  # the kernel count of Fig. 2 (results/figures/arm_values.png)
@@ -65,7 +78,7 @@ def roles_of(results):
     one per rotation step of a study whose axis it is (jobs/khepera-study.toml),
     each the rows of that step."""
     frame = results.summary()
-    if results.task in ("maze", "arm"):
+    if results.task in ("maze", "arm") or results.task in CONTINUOUS:
         return [(results.task, frame)]
     if results.task != "khepera":
         return []
@@ -283,6 +296,31 @@ def rotation_rows(study, degrees):
     return rows
 
 
+def continuous_rows(task, frame):
+    """GGK vs OGK per solver on a classic continuous task, with the diagnostics
+    that say whether GGK can differ from OGK there (the paper's argument: only
+    where shortest paths on the sample graph are much longer than straight
+    lines), then the third basis's rows."""
+    _, _, metric, what, scale, unit, name = CONTINUOUS[task]
+    title = task.replace("_", " ").capitalize()
+    kernels = frame[frame.basis == "ggk"]
+    diagnostics = (f"median geodesic stretch {kernels.geodesic_stretch.mean():.3g}, mean "
+                   f"|K_GGK - K_OGK| {kernels.kernel_gap.mean():.2g}")
+    rows = []
+    for solver in solvers_of(frame):
+        points = paired_points(frame, metric, solver)
+        rows.append((
+            f"{title}: GGK vs OGK, {solver.upper()} (ggk's addition: {name})",
+            f"(not in the paper; its argument predicts a GGK lead only where paths are "
+            f"long: {diagnostics})",
+            f"{what}, " + describe(points, scale, unit),
+            {"reproduced": "GGK ahead", "partly": "GGK partly ahead",
+             "not reproduced": "GGK not ahead"}[verdict(points)],
+        ))
+    rows += pvf_rows(frame, title, metric, what, solvers_of(frame), scale, unit)
+    return rows
+
+
 def claims_table(roles):
     rows = []
     if "maze" in roles:  # not one of the paper's claims: no row when no file gives it
@@ -299,6 +337,9 @@ def claims_table(roles):
     for degrees in (30, 45):
         if f"khepera-{degrees}" in roles:
             rows += rotation_rows(roles[f"khepera-{degrees}"], degrees)
+    for task in CONTINUOUS:  # not the paper's claims: rows only where a file gives them
+        if task in roles:
+            rows += continuous_rows(task, roles[task])
     lines = [
         "| claim | the paper | ggk measures (GGK - OGK paired by run, 95 % CI) | verdict |",
         "|---|---|---|---|",

@@ -13,7 +13,7 @@
 # OpenMPI's PMIx (libpmix2) with libopenmpi3.
 # python3-xarray, python3-setuptools, -pip and -venv: the package python/ggk_results,
 # its labelled views and its install into a venv without a package index
-# (python/README.md, tests/python/test_install.py).
+# (python/README.md, tests/python/test_install.py); python3-pytest runs tests/python.
 set -euo pipefail
 
 packages=(
@@ -26,7 +26,7 @@ packages=(
   slurm-wlm munge
   libboost-dev
   python3-h5py python3-matplotlib python3-numpy python3-scipy python3-pandas
-  python3-xarray python3-setuptools python3-pip python3-venv
+  python3-xarray python3-setuptools python3-pip python3-venv python3-pytest
 )
 
 missing=()

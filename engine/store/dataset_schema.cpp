@@ -63,7 +63,8 @@ constexpr std::array kSchemas = {
                   "khepera: mean distance to the BMU after each epoch", "khepera"},
     DatasetSchema{"state_units", "state", "node id",
                   "khepera: the BMU of every reading of the walks (series k, reading t: row "
-                  "k (steps + 1) + t)", "khepera"},
+                  "k (steps + 1) + t)",
+                  "khepera"},
     DatasetSchema{"arena/box", "box_field", "cm", "khepera: min x, min y, max x, max y, walled"},
     DatasetSchema{"arena/segments", "segment,segment_field", "cm", "khepera: a x, a y, b x, b y"},
     DatasetSchema{"arena/rectangles", "rectangle,corner_xy", "cm",
@@ -85,16 +86,20 @@ constexpr std::array kSchemas = {
                   "([<task>.scale])"},
     DatasetSchema{"som/prototypes", "node,observation_dim", "scaled state units",
                   "the prototype of each SOM unit (observation / observation_scale)"},
-    DatasetSchema{"som/grid", "node,grid_axis", "index", "(row, column) of each unit on the SOM grid"},
+    DatasetSchema{"som/grid", "node,grid_axis", "index",
+                  "(row, column) of each unit on the SOM grid"},
     DatasetSchema{"som/quantization_error", "epoch", "scaled state units",
                   "mean distance to the BMU after each epoch"},
     DatasetSchema{"state_units", "state", "node id",
                   "the BMU of every observation of the walks, in series order"},
-    DatasetSchema{"graph/occupied", "node", "flag", "1 if an observation has the SOM unit as its BMU"},
-    DatasetSchema{"fit:unit_policy", "node", "action code", "greedy action at each SOM unit's prototype"},
+    DatasetSchema{"graph/occupied", "node", "flag",
+                  "1 if an observation has the SOM unit as its BMU"},
+    DatasetSchema{"fit:unit_policy", "node", "action code",
+                  "greedy action at each SOM unit's prototype"},
     DatasetSchema{"fit:evaluation/returns", "episode", "reward", "the return of each test episode"},
-    DatasetSchema{"fit:evaluation/trajectory_*", "step,state_field", "task state units",
-                  "the simulator's state along the test episode, the start first (sims/<task>/README.md)"},
+    DatasetSchema{
+        "fit:evaluation/trajectory_*", "step,state_field", "task state units",
+        "the simulator's state along the test episode, the start first (sims/<task>/README.md)"},
     DatasetSchema{"optimal_actions", "state,action", "flag",
                   "chain: 1 where the action is optimal by value iteration"},
     DatasetSchema{"fit_metrics", "row", "", "one row per fit of this run (the summary's columns)"},
@@ -235,8 +240,10 @@ std::string dataset_schema_markdown() {
     if (path.starts_with(kFitPrefix)) {
       path = "fits/<basis>/<point>/" + path.substr(kFitPrefix.size());
     }
-    if (!schema.task.empty()) path += "` (" + std::string(schema.task) + ")";
-    else path += "`";
+    if (!schema.task.empty())
+      path += "` (" + std::string(schema.task) + ")";
+    else
+      path += "`";
     text += "| `" + path + " | " + std::string(schema.dims) + " | " + std::string(schema.units) +
             " | " + std::string(schema.description) + " |\n";
   }

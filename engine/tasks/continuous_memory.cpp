@@ -75,15 +75,14 @@ RunMemoryEstimate estimate_continuous_run(const ContinuousSizes& sizes,
   // A fit's state kernels, shared with the fits of the other solvers at the
   // same basis, width and kernel count; the shift scheme forms its m-row
   // feature table from them.
-  estimate.add_per_fit(
-      shift ? "the kernel and feature tables of a fit with " + count_text(max_kernels) +
-                  " kernels (" + count_text(readings) + " observations x " + count_text(m) +
-                  " actions)"
-            : "the state kernels of a fit with " + count_text(max_kernels) + " kernels (" +
-                  count_text(readings) +
-                  " observations; the copy scheme forms no feature table)",
-      shift ? kernel_and_feature_bytes(readings, max_kernels, m)
-            : kernel_table_bytes(readings, max_kernels));
+  estimate.add_per_fit(shift ? "the kernel and feature tables of a fit with " +
+                                   count_text(max_kernels) + " kernels (" + count_text(readings) +
+                                   " observations x " + count_text(m) + " actions)"
+                             : "the state kernels of a fit with " + count_text(max_kernels) +
+                                   " kernels (" + count_text(readings) +
+                                   " observations; the copy scheme forms no feature table)",
+                       shift ? kernel_and_feature_bytes(readings, max_kernels, m)
+                             : kernel_table_bytes(readings, max_kernels));
   estimate.add_per_fit("the LSPI system of a fit with " + count_text(m) + " x " +
                            count_text(max_kernels) + " basis functions",
                        lspi_bytes(readings, max_kernels, m, n));

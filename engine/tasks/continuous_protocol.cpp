@@ -127,9 +127,9 @@ FitTable state_kernel_table(const RunContext& ctx, KernelType basis, double sigm
 EpisodeTest test_weights(const RunContext& ctx, const ObservationKernels& kernels_of,
                          const Eigen::VectorXd& weights, FitMetrics& metrics,
                          bool keep_trajectories) {
-  EpisodeTest test =
-      test_episodes(*ctx.env, *ctx.protocol, stream_for(ctx.job->seed, ctx.run, Purpose::evaluation),
-                    kernels_of, weights, keep_trajectories);
+  EpisodeTest test = test_episodes(*ctx.env, *ctx.protocol,
+                                   stream_for(ctx.job->seed, ctx.run, Purpose::evaluation),
+                                   kernels_of, weights, keep_trajectories);
   metrics.set("mean_return", test.mean_return);
   metrics.set(ctx.env->ended_metric, test.ended_fraction);
   metrics.set("mean_steps", test.mean_steps);

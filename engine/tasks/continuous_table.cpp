@@ -73,8 +73,8 @@ void read_som(const TomlTableReader& task_table, ContinuousProtocol& protocol) {
       if (table.has("rows")) table.fail("rows", detail);
       if (table.has("cols")) table.fail("cols", detail);
       // The default grid: blame the protocol that made the run too small.
-      const std::string hint = "; set [" + task_table.table_path() +
-                               ".som] rows and cols, or grid_from_samples = true";
+      const std::string hint =
+          "; set [" + task_table.table_path() + ".som] rows and cols, or grid_from_samples = true";
       if (task_table.has("steps_per_series")) task_table.fail("steps_per_series", detail + hint);
       if (task_table.has("series")) task_table.fail("series", detail + hint);
       task_table.fail_table(detail + hint);
@@ -108,8 +108,7 @@ std::vector<double> read_scale(const TomlTableReader& task_table,
   const TomlTableReader table = task_table.subtable_or_empty("scale", names);
   std::vector<double> scale;
   for (const ObservationDimension& dimension : dimensions) {
-    scale.push_back(
-        table.number(dimension.name, NumberRange::above(0.0), dimension.default_scale));
+    scale.push_back(table.number(dimension.name, NumberRange::above(0.0), dimension.default_scale));
   }
   return scale;
 }

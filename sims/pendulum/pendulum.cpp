@@ -20,13 +20,16 @@ State integrate(const PendulumConfig& c, State s, double force) {
   }
   const double h = c.dt / c.substeps;
   for (std::int32_t i = 0; i < c.substeps; ++i) {
-    const auto slope = [&](State x) { return State{x.velocity, angular_acceleration(c, x, force)}; };
+    const auto slope = [&](State x) {
+      return State{x.velocity, angular_acceleration(c, x, force)};
+    };
     const State k1 = slope(s);
     const State k2 = slope({s.angle + h / 2.0 * k1.angle, s.velocity + h / 2.0 * k1.velocity});
     const State k3 = slope({s.angle + h / 2.0 * k2.angle, s.velocity + h / 2.0 * k2.velocity});
     const State k4 = slope({s.angle + h * k3.angle, s.velocity + h * k3.velocity});
-    s = {s.angle + h / 6.0 * (k1.angle + 2.0 * k2.angle + 2.0 * k3.angle + k4.angle),
-         s.velocity + h / 6.0 * (k1.velocity + 2.0 * k2.velocity + 2.0 * k3.velocity + k4.velocity)};
+    s = {
+        s.angle + h / 6.0 * (k1.angle + 2.0 * k2.angle + 2.0 * k3.angle + k4.angle),
+        s.velocity + h / 6.0 * (k1.velocity + 2.0 * k2.velocity + 2.0 * k3.velocity + k4.velocity)};
   }
   return s;
 }

@@ -23,8 +23,8 @@ struct AcrobotTask {
 };
 
 constexpr std::array<std::string_view, 9> kKeys = {
-    "series", "steps_per_series", "test_episodes", "test_max_steps", "som",
-    "scale",  "torque_noise",     "dt",            "walk_start"};
+    "series", "steps_per_series", "test_episodes", "test_max_steps", "som", "scale", "torque_noise",
+    "dt",     "walk_start"};
 constexpr std::array<std::string_view, 2> kWalkStarts = {"state_box", "reset"};
 // Gymnasium's observation box: cos and sin in [-1, 1], velocities in +-4 pi, +-9 pi.
 constexpr std::array<ObservationDimension, 6> kDimensions = {

@@ -21,12 +21,12 @@ struct MountainCarTask {
 };
 
 constexpr std::array<std::string_view, 10> kKeys = {
-    "series", "steps_per_series", "test_episodes", "test_max_steps", "som",
-    "scale",  "force",            "gravity",       "max_speed",      "walk_start"};
+    "series", "steps_per_series", "test_episodes", "test_max_steps", "som", "scale",
+    "force",  "gravity",          "max_speed",     "walk_start"};
 constexpr std::array<std::string_view, 2> kWalkStarts = {"state_box", "reset"};
 // Gymnasium's observation box: position in [-1.2, 0.6], velocity in [-0.07, 0.07].
-constexpr std::array<ObservationDimension, 2> kDimensions = {{{"position", 1.8},
-                                                              {"velocity", 0.14}}};
+constexpr std::array<ObservationDimension, 2> kDimensions = {
+    {{"position", 1.8}, {"velocity", 0.14}}};
 
 MountainCarTask parse_table(const TomlTableReader& job) {
   const TomlTableReader table = job.subtable_or_empty("mountain_car", kKeys);

@@ -22,10 +22,22 @@ struct PendulumTask {
   ContinuousProtocol protocol;
 };
 
-constexpr std::array<std::string_view, 16> kKeys = {
-    "series",     "steps_per_series", "test_episodes", "test_max_steps", "som",   "scale",
-    "pendulum_mass", "cart_mass",     "length",        "gravity",        "force", "noise",
-    "dt",         "integrator",       "substeps",      "start_perturbation"};
+constexpr std::array<std::string_view, 16> kKeys = {"series",
+                                                    "steps_per_series",
+                                                    "test_episodes",
+                                                    "test_max_steps",
+                                                    "som",
+                                                    "scale",
+                                                    "pendulum_mass",
+                                                    "cart_mass",
+                                                    "length",
+                                                    "gravity",
+                                                    "force",
+                                                    "noise",
+                                                    "dt",
+                                                    "integrator",
+                                                    "substeps",
+                                                    "start_perturbation"};
 constexpr std::array<std::string_view, 2> kIntegrators = {"rk4", "euler"};
 
 PendulumTask parse_table(const TomlTableReader& job) {
@@ -44,8 +56,8 @@ PendulumTask parse_table(const TomlTableReader& job) {
                      ? pendulum::Integrator::euler
                      : pendulum::Integrator::rk4;
   p.substeps = static_cast<std::int32_t>(table.integer("substeps", {1, 10'000}, p.substeps));
-  task.start_perturbation = table.number("start_perturbation", NumberRange::half_open(0.0, 1.5),
-                                         task.start_perturbation);
+  task.start_perturbation =
+      table.number("start_perturbation", NumberRange::half_open(0.0, 1.5), task.start_perturbation);
   ContinuousProtocol defaults;
   defaults.series = 1000;  // random episodes, each ended by a fall (about 6 steps)
   defaults.steps_per_series = 100;

@@ -59,8 +59,8 @@ TEST(ClassicTasks, MountainCarSamplesReplayBitForBit) {
   std::int64_t terminals = 0;
   for (Eigen::Index i = 0; i < s.observations.rows(); ++i) {
     const auto k = static_cast<std::size_t>(i);
-    const sims::mountain_car::State next = sims::mountain_car::step(
-        c, {s.observations(i, 0), s.observations(i, 1)}, s.actions[k]);
+    const sims::mountain_car::State next =
+        sims::mountain_car::step(c, {s.observations(i, 0), s.observations(i, 1)}, s.actions[k]);
     EXPECT_EQ(next.position, s.next_observations(i, 0));
     EXPECT_EQ(next.velocity, s.next_observations(i, 1));
     EXPECT_EQ(s.rewards[k], -1.0);

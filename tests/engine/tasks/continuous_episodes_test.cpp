@@ -40,8 +40,8 @@ TEST(ContinuousWalks, ObservationsInSeriesOrderOneSamplePerStep) {
     }
     ++length;
     EXPECT_LE(length, protocol.steps_per_series);
-    const bool last = i + 1 == walks.batch.size() ||
-                      walks.batch.states[i + 1] != walks.batch.next_states[i];
+    const bool last =
+        i + 1 == walks.batch.size() || walks.batch.states[i + 1] != walks.batch.next_states[i];
     if (walks.batch.terminals[i]) {
       ++terminals;
       EXPECT_TRUE(last) << "a terminal sample ends its series";
@@ -49,7 +49,8 @@ TEST(ContinuousWalks, ObservationsInSeriesOrderOneSamplePerStep) {
     } else if (last) {
       EXPECT_EQ(length, protocol.steps_per_series);
     }
-    EXPECT_EQ(walks.stop_flags[i] == 1.0, walks.observations(walks.batch.next_states[i], 0) == -3.0);
+    EXPECT_EQ(walks.stop_flags[i] == 1.0,
+              walks.observations(walks.batch.next_states[i], 0) == -3.0);
   }
   EXPECT_EQ(series, protocol.series);
   EXPECT_GT(terminals, 0) << "the test walker must reach its goal in some series";

@@ -124,8 +124,7 @@ TEST(ContinuousProtocol, ScaleAndWidthTogetherChangeNoFit) {
   const RunRecord scaled = run_with_threads(env, protocol, job, 1);
   for (std::size_t i = 0; i < base.fits.size(); ++i) {
     EXPECT_EQ(base.fits[i].lspi.policy, scaled.fits[i].lspi.policy);
-    const std::map<std::string, double> a(base.fits[i].metrics.begin(),
-                                          base.fits[i].metrics.end());
+    const std::map<std::string, double> a(base.fits[i].metrics.begin(), base.fits[i].metrics.end());
     const std::map<std::string, double> b(scaled.fits[i].metrics.begin(),
                                           scaled.fits[i].metrics.end());
     EXPECT_EQ(a.at("mean_return"), b.at("mean_return"));

@@ -16,9 +16,9 @@
 #include "engine/job/job_error.hpp"
 #include "engine/job/job_file.hpp"
 #include "engine/run/job_runner.hpp"
-#include "engine/tasks/record_bytes.hpp"
 #include "engine/tasks/discrete_protocol.hpp"
 #include "engine/tasks/khepera/khepera_task.hpp"
+#include "engine/tasks/record_bytes.hpp"
 
 namespace ggk::engine {
 namespace {
