@@ -7,8 +7,8 @@
 //             / (4 l / 3 - alpha m l cos^2 theta),   alpha = 1 / (m + M),
 // m = 2 kg, M = 8 kg, l = 0.5 m, g = 9.8 m/s^2. The pendulum has fallen (reward
 // -1, terminal) when |theta| >= pi / 2, else reward 0. The paper names no
-// integrator: RK4 over `substeps` equal steps of dt (default 10, close to the
-// adaptive ode45 of the authors' MATLAB code) or one explicit Euler step.
+// integrator: RK4 over `substeps` equal steps of dt (default 10: within 3.1e-7 of
+// an adaptive solver over a control step, jobs/README.md) or one explicit Euler step.
 //
 // Thread-safety: pure functions of their arguments.
 
