@@ -8,7 +8,9 @@
 #                                        # Khepera (Figs. 4-6) and the rotation-step
 #                                        # study (15, 30, 45 degrees in one file;
 #                                        # widths x steps 15 and 45),
-#                                        # the arm's LSPI iterations (stopping rules)
+#                                        # the arm's LSPI iterations (stopping rules),
+#                                        # the classic continuous tasks (pendulum,
+#                                        # mountain car, acrobot: ggk's additions)
 #                                        # -> results/*.h5, results/figures/
 #   bash scripts/reproduce.sh --claim-map  # full scale, and the Khepera claim map
 #                                        # (jobs/khepera-claim-map.toml, about 9 minutes
@@ -54,8 +56,14 @@ if [ $quick = 1 ]; then
   $python results/plot_khepera.py "$dir/khepera.h5" "$figures"
   $python results/plot_arm_workspace.py "$dir/arm.h5" "$figures"        # Fig. 1(a)
   $python results/plot_khepera_arena.py "$dir/khepera.h5" "$figures"    # Fig. 4(a)
-  echo "== claims (reduced: 10 and 4 runs, wide intervals)" >&2
-  for f in "$dir/arm.h5" "$dir/khepera.h5"; do "$ggk" info "$f"; echo; done
+  # The classic continuous tasks at their CI size (3 runs; seconds).
+  for task in pendulum mountain-car acrobot; do
+    run "jobs/ci-$task.toml" "$dir/$task.h5" "$@"
+    $python results/plot_continuous.py "$dir/$task.h5" "$figures"
+  done
+  echo "== claims (reduced: 10, 4 and 3 runs, wide intervals)" >&2
+  for f in "$dir/arm.h5" "$dir/khepera.h5" "$dir/pendulum.h5" "$dir/mountain-car.h5" \
+    "$dir/acrobot.h5"; do "$ggk" info "$f"; echo; done
   $python results/claims.py --results "$dir"
   echo "reproduce.sh: the reduced reproduction's figures are in $figures/, e.g." \
     "$figures/arm_workspace.png (paper Fig. 1(a)), $figures/arm_success.png (Fig. 3)," \
@@ -79,6 +87,11 @@ run jobs/arm-paper.toml results/arm-paper-lstdq-iterations.h5 --set lspi.evaluat
 run jobs/arm-paper.toml results/arm-paper-cap100-iterations.h5 --set lspi.evaluate_iterations=true \
   --set lspi.max_iterations=100 "$@"
 run jobs/khepera-paper.toml results/khepera-paper-iterations.h5 --set lspi.evaluate_iterations=true "$@"
+# The classic continuous tasks (README "Beyond the paper: classic continuous tasks").
+for task in pendulum mountain-car acrobot; do
+  run "jobs/$task.toml" "results/$task.h5" "$@"
+  $python results/plot_continuous.py "results/$task.h5" "$figures"
+done
 $python results/plot_maze.py results/maze.h5 "$figures"
 $python results/plot_arm.py results/arm-paper.h5 "$figures" --kernels 128
 $python results/plot_khepera.py results/khepera-paper.h5 "$figures"
@@ -106,7 +119,8 @@ if [ $claim_map = 1 ]; then
 fi
 echo "== claims" >&2
 for f in results/maze.h5 results/arm-paper.h5 results/khepera-paper.h5 \
-  results/khepera-study.h5 results/khepera-widths-study.h5; do
+  results/khepera-study.h5 results/khepera-widths-study.h5 results/pendulum.h5 \
+  results/mountain-car.h5 results/acrobot.h5; do
   "$ggk" info "$f"
   echo
 done
