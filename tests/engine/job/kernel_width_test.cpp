@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -15,17 +16,17 @@
 
 #include "engine/job/job_file.hpp"
 #include "engine/tasks/task_list.hpp"
+#include "support/shipped_jobs.hpp"
 
 namespace ggk::engine {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A shipped job's text with its [sweep] sigma line replaced by `sigma`.
-std::string shipped_job_with_sigma(const std::string& name, const std::string& sigma) {
-  const char* source_dir = std::getenv("GGK_SOURCE_DIR");
-  if (source_dir == nullptr) return {};
-  std::ifstream file(fs::path(source_dir) / "jobs" / (name + ".toml"));
+// The CI job of `task` (support/shipped_jobs.hpp), its text with its [sweep]
+// sigma line replaced by `sigma`.
+std::string shipped_job_with_sigma(const fs::path& path, const std::string& sigma) {
+  std::ifstream file(path);
   std::ostringstream text;
   text << file.rdbuf();
   std::string job = text.str();
@@ -35,22 +36,23 @@ std::string shipped_job_with_sigma(const std::string& name, const std::string& s
   return job.replace(at + 1, end - at - 1, "sigma = " + sigma);
 }
 
-// "ok" or the JobError message of the shipped job `name` with `sigma`.
-std::string outcome(const std::string& name, const std::string& sigma) {
-  const std::string text = shipped_job_with_sigma(name, sigma);
+// "ok" or the JobError message of the shipped CI job of `task` with `sigma`.
+std::string outcome(const std::string& task, const std::string& sigma) {
+  const std::optional<fs::path> path = test_support::ci_job_for(task);
+  if (!path) return "no CI job (jobs/ci*.toml) runs task " + task;
+  const std::string text = shipped_job_with_sigma(*path, sigma);
   if (text.empty()) return "no job text";
   JobLoadOptions options;
   options.check_output = false;
-  const char* source_dir = std::getenv("GGK_SOURCE_DIR");
   try {
-    parse_job(text, fs::path(source_dir) / "jobs" / (name + ".toml"), task_tables(), options);
+    parse_job(text, *path, task_tables(), options);
   } catch (const JobError& error) {
     return error.what();
   }
   return "ok";
 }
 
-class KernelWidths : public ::testing::TestWithParam<const char*> {
+class KernelWidths : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
     if (std::getenv("GGK_SOURCE_DIR") == nullptr) GTEST_SKIP() << "run through ctest";
@@ -82,11 +84,11 @@ TEST_P(KernelWidths, WidthsAroundTheCalibratedOnesAreAccepted) {
             "ok");
 }
 
-INSTANTIATE_TEST_SUITE_P(EveryTask, KernelWidths, ::testing::Values("ci", "ci-arm", "ci-khepera"),
-                         [](const ::testing::TestParamInfo<const char*>& param) {
-                           std::string name = param.param;  // the job: "ci_arm"
-                           std::replace(name.begin(), name.end(), '-', '_');
-                           return name;
+// Every registered task, through its CI job: a new task is covered at once.
+INSTANTIATE_TEST_SUITE_P(EveryTask, KernelWidths,
+                         ::testing::ValuesIn(test_support::registered_task_names()),
+                         [](const ::testing::TestParamInfo<std::string>& param) {
+                           return test_support::parameter_name(param.param);
                          });
 
 }  // namespace
