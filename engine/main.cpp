@@ -34,6 +34,9 @@
 #include "engine/store/results_merge.hpp"
 #include "engine/store/results_verify.hpp"
 #include "engine/tasks/task_list.hpp"
+#if GGK_WITH_PYTHON
+#include "engine/tasks/python_env/python_runtime.hpp"
+#endif
 #if GGK_WITH_MPI
 #include "engine/run/mpi_runner.hpp"
 #endif
@@ -228,7 +231,12 @@ int main(int argc, char** argv) {
 
   CLI::App app{"ggk: least-squares policy iteration with geodesic Gaussian kernels"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "ggk " + engine::ggk_version_text());
+#if GGK_WITH_PYTHON
+  const std::string embedded = "; python_env embeds " + engine::python::embedded_version();
+#else
+  const std::string embedded = "; built without Python (no python_env task)";
+#endif
+  app.set_version_flag("--version", "ggk " + engine::ggk_version_text() + embedded);
 
   std::string job_path, info_path, runs_text, shard_text;
   engine::RunOptions options;

@@ -159,20 +159,24 @@ std::string_view to_string(FitStatus status) {
       return "solver_failed";
     case FitStatus::kInvalid:
       return "invalid";
+    case FitStatus::kEnvironmentFailed:
+      return "environment_failed";
   }
   return "unknown";
 }
 
 std::optional<FitStatus> fit_status_from_text(std::string_view text) {
   for (const FitStatus status : {FitStatus::kConverged, FitStatus::kMaxIterations,
-                                 FitStatus::kSolverFailed, FitStatus::kInvalid}) {
+                                 FitStatus::kSolverFailed, FitStatus::kInvalid,
+                                 FitStatus::kEnvironmentFailed}) {
     if (text == to_string(status)) return status;
   }
   return std::nullopt;
 }
 
 bool is_failed(FitStatus status) {
-  return status == FitStatus::kSolverFailed || status == FitStatus::kInvalid;
+  return status == FitStatus::kSolverFailed || status == FitStatus::kInvalid ||
+         status == FitStatus::kEnvironmentFailed;
 }
 
 bool is_failed_status(std::string_view text) {

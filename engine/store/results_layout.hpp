@@ -113,7 +113,9 @@ RootAttributeRole root_attribute_role(std::string_view name);
 // A fit's status: the fit group's attribute "status" and the summary's column.
 // LSPI's outcome (kernels::to_string(LspiStatus)), or "invalid" for a fit that
 // could not start (too few nodes, an unusable width).
-enum class FitStatus { kConverged, kMaxIterations, kSolverFailed, kInvalid };
+// kEnvironmentFailed: the task's environment failed in the fit's test (a Python
+// environment raised): the fit has weights but no test.
+enum class FitStatus { kConverged, kMaxIterations, kSolverFailed, kInvalid, kEnvironmentFailed };
 std::string_view to_string(FitStatus status);
 // The status a text names, or none for a text of no status this ggk knows.
 std::optional<FitStatus> fit_status_from_text(std::string_view text);

@@ -26,11 +26,24 @@ Walks random_walks(const ContinuousEnvironment& env, const ContinuousProtocol& p
   const std::unique_ptr<ContinuousEpisode> episode = env.new_episode();
   Eigen::Index state = 0;  // the series' current observation
   for (std::int32_t series = 0; series < protocol.series; ++series) {
-    episode->start_walk(random, row_span(walks.observations, state));
+    const auto where = [&](std::int32_t t, const EnvironmentError& error) {
+      return EnvironmentError("the walks' series " + std::to_string(series) +
+                              (t < 0 ? ", its start" : ", step " + std::to_string(t)) + ": " +
+                              error.what());
+    };
+    try {
+      episode->start_walk(random, row_span(walks.observations, state));
+    } catch (const EnvironmentError& error) {
+      throw where(-1, error);
+    }
     for (std::int32_t t = 0; t < protocol.steps_per_series; ++t) {
       const auto action = static_cast<std::int32_t>(random.uniform_index(env.num_actions));
-      const ContinuousStep step =
-          episode->step(action, random, row_span(walks.observations, state + 1));
+      ContinuousStep step;
+      try {
+        step = episode->step(action, random, row_span(walks.observations, state + 1));
+      } catch (const EnvironmentError& error) {
+        throw where(t, error);
+      }
       walks.batch.add(static_cast<std::int32_t>(state), action, step.reward,
                       static_cast<std::int32_t>(state + 1), step.terminal);
       walks.stop_flags.push_back(step.stop ? 1.0 : 0.0);
@@ -144,7 +157,16 @@ EpisodeTest test_episodes(const ContinuousEnvironment& env, const ContinuousProt
   double steps_taken = 0.0;
   std::int32_t ended_episodes = 0;
   for (std::int32_t e = 0; e < protocol.test_episodes; ++e) {
-    episode->start_test(random, observation);
+    const auto where = [&](std::int32_t t, const EnvironmentError& error) {
+      return EnvironmentError("test episode " + std::to_string(e) +
+                              (t < 0 ? ", its start" : ", step " + std::to_string(t)) + ": " +
+                              error.what());
+    };
+    try {
+      episode->start_test(random, observation);
+    } catch (const EnvironmentError& error) {
+      throw where(-1, error);
+    }
     NamedArray trajectory{"evaluation/trajectory_" + std::to_string(e), {0, trace}, {}};
     if (keep_trajectories) episode->trace(trajectory.values);
     double total = 0.0;
@@ -152,7 +174,12 @@ EpisodeTest test_episodes(const ContinuousEnvironment& env, const ContinuousProt
     for (; steps < protocol.test_max_steps; ++steps) {
       scale_observation();
       const std::int32_t action = greedy_action(weights, kernels_of(scaled), env.num_actions);
-      const ContinuousStep r = episode->step(action, random, observation);
+      ContinuousStep r;
+      try {
+        r = episode->step(action, random, observation);
+      } catch (const EnvironmentError& error) {
+        throw where(steps, error);
+      }
       total += r.reward;
       if (keep_trajectories) episode->trace(trajectory.values);
       if (r.terminal || r.stop) ++ended_episodes;

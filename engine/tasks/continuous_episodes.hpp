@@ -32,7 +32,8 @@ struct Walks {
 
 // protocol.series walks of up to protocol.steps_per_series uniformly random
 // actions (random.uniform_index), each from the environment's walk start; a
-// series ends early on a terminal or truncated step.
+// series ends early on a terminal or truncated step. An EnvironmentError is
+// rethrown naming the series and step.
 Walks random_walks(const ContinuousEnvironment& env, const ContinuousProtocol& protocol,
                    kernels::RandomStream& random);
 
@@ -82,6 +83,7 @@ std::int32_t greedy_action(const Eigen::VectorXd& weights, const Eigen::VectorXd
 // the run's evaluation stream, so every fit meets the same test noise and the
 // test of the last iterate is the fit's own). An observation is featurised with
 // the copy scheme (no transition model exists for a state off the sample set).
+// An EnvironmentError is rethrown naming the episode and step.
 struct EpisodeTest {
   double mean_return = 0.0;
   double ended_fraction = 0.0;  // episodes ended by a terminal or stop step

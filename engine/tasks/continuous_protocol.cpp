@@ -189,7 +189,16 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point, const FitTab
   const ObservationKernels kernels_of(
       *ctx.som, ctx.occupied, ctx.graph.center_distances, point, fit.centers,
       ctx.job->basis.truncation, pvf ? &ctx.eigenbases.of(point.kernels).node_values : nullptr);
-  EpisodeTest test = test_weights(ctx, kernels_of, fit.lspi.weights, metrics, true);
+  EpisodeTest test;
+  try {
+    test = test_weights(ctx, kernels_of, fit.lspi.weights, metrics, true);
+  } catch (const EnvironmentError& error) {
+    // The environment failed in the test: the fit has weights but no test.
+    fit.status = "environment_failed";
+    fit.message = "run " + std::to_string(ctx.run) + ": " + error.what();
+    fit.metrics = metrics.named_values();
+    return fit;
+  }
   fit.metrics = metrics.named_values();
   for (NamedArray& trajectory : test.trajectories) fit.arrays.push_back(std::move(trajectory));
   fit.arrays.push_back(
@@ -309,9 +318,15 @@ RunRecord run_continuous_protocol(const ContinuousEnvironment& env,
   record.action_names = env.action_names;
   record.integer_metrics = integer_metric_names(ctx.specs);
 
-  // The samples, unscaled: exactly what the simulator produced.
+  // The samples, unscaled: exactly what the simulator produced. A failing
+  // simulator fails the run.
   kernels::RandomStream sample_stream = stream_for(job.seed, run, Purpose::samples);
-  const Walks walks = random_walks(env, protocol, sample_stream);
+  Walks walks;
+  try {
+    walks = random_walks(env, protocol, sample_stream);
+  } catch (const EnvironmentError& error) {
+    throw EnvironmentError("run " + std::to_string(run) + ": " + error.what());
+  }
   const kernels::SampleBatch& batch = walks.batch;
   const Eigen::Index d = env.observation_dimension;
   record.samples.actions = batch.actions;

@@ -23,6 +23,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -36,6 +37,15 @@
 #include "kernels/self_organizing_map.hpp"
 
 namespace ggk::engine {
+
+// Thrown by a ContinuousEpisode whose simulator fails (a Python environment
+// raised, returned a bad observation): during the walks the run fails, naming
+// the series and step; during a fit's test the fit is recorded with status
+// "environment_failed" and the message, and the run goes on.
+class EnvironmentError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 // What one step of a continuous environment reports (its observation is written
 // into the caller's span).

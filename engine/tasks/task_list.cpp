@@ -9,6 +9,9 @@
 #include "engine/tasks/maze/maze_task.hpp"
 #include "engine/tasks/mountain_car/mountain_car_task.hpp"
 #include "engine/tasks/pendulum/pendulum_task.hpp"
+#if GGK_WITH_PYTHON
+#include "engine/tasks/python_env/python_env_task.hpp"
+#endif
 
 namespace ggk::engine {
 
@@ -20,6 +23,9 @@ const std::vector<TaskDefinition>& all_tasks() {
       maze_task_definition(),    arm_task_definition(),      khepera_task_definition(),
       chain_task_definition(),   pendulum_task_definition(), mountain_car_task_definition(),
       acrobot_task_definition(),
+#if GGK_WITH_PYTHON
+      python_env_task_definition(),
+#endif
   };
   return tasks;
 }
