@@ -9,10 +9,12 @@ from . import Box, Discrete
 
 
 class PendulumTwin:
-    def __init__(self, noise=0.0, start_perturbation=0.1):
+    def __init__(self, noise=0.0, start_perturbation=0.1, max_episode_steps=None):
         self.m, self.big_m, self.l, self.g = 2.0, 8.0, 0.5, 9.8
         self.force, self.noise, self.dt, self.substeps = 50.0, noise, 0.1, 10
         self.start_perturbation = start_perturbation
+        self.max_episode_steps = max_episode_steps
+        self.steps = 0
         self.action_space = Discrete(3)
         self.observation_space = Box([-math.pi / 2, -10.0], [math.pi / 2, 10.0])
         self.rng = random.Random(0)
@@ -29,6 +31,7 @@ class PendulumTwin:
         self.rng = random.Random(seed)
         p = self.start_perturbation
         self.state = (self.rng.uniform(-p, p), self.rng.uniform(-p, p))
+        self.steps = 0
         return list(self.state), {}
 
     def step(self, action):
@@ -46,4 +49,7 @@ class PendulumTwin:
                     w + h / 6.0 * (k1w + 2.0 * k2w + 2.0 * k3w + k4w))
         self.state = (a, w)
         fell = abs(a) >= math.pi / 2.0
-        return [a, w], (-1.0 if fell else 0.0), fell, False, {}
+        self.steps += 1
+        truncated = (self.max_episode_steps is not None and self.steps >= self.max_episode_steps
+                     and not fell)
+        return [a, w], (-1.0 if fell else 0.0), fell, truncated, {}
