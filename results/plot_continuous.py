@@ -1,13 +1,13 @@
-"""The figures of a continuous task (pendulum, mountain_car, acrobot: any task of
-engine/tasks/continuous_protocol.hpp but the Khepera, which has its own) from a
-ggk results file:
+"""The figures of a continuous task (pendulum, mountain_car, acrobot, python_env:
+any task of engine/tasks/continuous_protocol.hpp but the Khepera, which has its
+own) from a ggk results file:
 
   <task>_steps.png   the paper's Fig. 3 / Fig. 6 form: mean test-episode length
                      and the share of episodes that ended (the task's ended
                      metric: success_rate, fall_fraction) against the number of
                      kernels, a curve per basis and solver, 95 % CIs over runs
   <task>_values.png  the paper's Fig. 2 form, for a task with a 2-D observation
-                     (pendulum, mountain car): V(s) = max_a Q(s, a) over the
+                     (pendulum, mountain car, a 2-D python_env): V(s) = max_a Q(s, a) over the
                      observation box with GGK and with OGK side by side (one run,
                      one kernel count, one solver), each with its greedy
                      trajectory of test episode 0
@@ -53,6 +53,8 @@ TASKS = {
     "mountain_car": ("success_rate", "episodes that reached the goal (%)",
                      ("position", "velocity")),
     "acrobot": ("success_rate", "episodes that raised the tip above the bar (%)", None),
+    # Any Gymnasium-API environment: the value figure where its observation is 2-D.
+    "python_env": ("success_rate", "episodes that terminated (%)", ("dim_0", "dim_1")),
 }
 
 
@@ -195,7 +197,9 @@ def main():
     summary = read_summary(args.results, task)
     test_max_steps = int(job[f"{task}.test_max_steps"])
     print(fig_steps(summary, task, out, test_max_steps, args.format))
-    if TASKS[task][2] is None:
+    with h5py.File(args.results, "r") as f:
+        dimension = run_group(f, task, args.run)["samples/observations"].shape[1]
+    if TASKS[task][2] is None or dimension != 2:
         return
     kernels = args.kernels or int(max(summary["kernels"]))
     swept = sorted(set(summary["solver"]))

@@ -11,6 +11,8 @@
 # (scripts/slurm-local.sh, scripts/slurm-recipes.sh); srun --mpi=pmix needs nothing
 # more: Slurm's mpi_pmix plugin comes with slurm-wlm (slurm-wlm-basic-plugins) and
 # OpenMPI's PMIx (libpmix2) with libopenmpi3.
+# python3-dev, pybind11-dev: the CPython that the python_env task embeds
+# (engine/tasks/python_env/).
 # python3-xarray, python3-setuptools, -pip and -venv: the package python/ggk_results,
 # its labelled views and its install into a venv without a package index
 # (python/README.md, tests/python/test_install.py); python3-pytest runs tests/python.
@@ -25,6 +27,7 @@ packages=(
   libopenmpi-dev openmpi-bin
   slurm-wlm munge
   libboost-dev
+  python3-dev pybind11-dev
   python3-h5py python3-matplotlib python3-numpy python3-scipy python3-pandas
   python3-xarray python3-setuptools python3-pip python3-venv python3-pytest
 )

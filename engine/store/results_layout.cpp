@@ -166,9 +166,9 @@ std::string_view to_string(FitStatus status) {
 }
 
 std::optional<FitStatus> fit_status_from_text(std::string_view text) {
-  for (const FitStatus status : {FitStatus::kConverged, FitStatus::kMaxIterations,
-                                 FitStatus::kSolverFailed, FitStatus::kInvalid,
-                                 FitStatus::kEnvironmentFailed}) {
+  for (const FitStatus status :
+       {FitStatus::kConverged, FitStatus::kMaxIterations, FitStatus::kSolverFailed,
+        FitStatus::kInvalid, FitStatus::kEnvironmentFailed}) {
     if (text == to_string(status)) return status;
   }
   return std::nullopt;

@@ -20,11 +20,15 @@ namespace {
 // The one list: a task's definition per line.
 const std::vector<TaskDefinition>& all_tasks() {
   static const std::vector<TaskDefinition> tasks = {
-      maze_task_definition(),    arm_task_definition(),      khepera_task_definition(),
-      chain_task_definition(),   pendulum_task_definition(), mountain_car_task_definition(),
-      acrobot_task_definition(),
+    maze_task_definition(),
+    arm_task_definition(),
+    khepera_task_definition(),
+    chain_task_definition(),
+    pendulum_task_definition(),
+    mountain_car_task_definition(),
+    acrobot_task_definition(),
 #if GGK_WITH_PYTHON
-      python_env_task_definition(),
+    python_env_task_definition(),
 #endif
   };
   return tasks;

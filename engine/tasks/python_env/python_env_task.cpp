@@ -34,8 +34,8 @@ struct PythonEnvTask {
 };
 
 constexpr std::array<std::string_view, 9> kKeys = {
-    "series",  "steps_per_series", "test_episodes", "test_max_steps", "som",
-    "scale",   "factory",          "kwargs",        "path"};
+    "series",  "steps_per_series", "test_episodes", "test_max_steps", "som", "scale",
+    "factory", "kwargs",           "path"};
 
 // The exception's type and message, without pybind11's traceback ("At:").
 std::string exception_line(const py::error_already_set& error) {
@@ -103,7 +103,8 @@ std::vector<double> observation_values(const py::handle& observation, std::strin
     const py::tuple shape = observation.attr("shape");
     if (shape.size() != 1) {
       throw EnvironmentError(std::string(from) + " returned an observation of shape " +
-                             std::string(py::repr(shape)) + ": ggk needs a flat vector (a 1-D Box)");
+                             std::string(py::repr(shape)) +
+                             ": ggk needs a flat vector (a 1-D Box)");
     }
   }
   std::vector<double> values;
@@ -231,8 +232,9 @@ Inspection inspect(const PythonEnvTask& task) {
   }
   Inspection result;
   if (!py::hasattr(env, "action_space") || !py::hasattr(env.attr("action_space"), "n")) {
-    throw EnvironmentError("its action_space has no n: ggk needs a discrete action set "
-                           "(gymnasium.spaces.Discrete)");
+    throw EnvironmentError(
+        "its action_space has no n: ggk needs a discrete action set "
+        "(gymnasium.spaces.Discrete)");
   }
   try {
     const auto n = env.attr("action_space").attr("n").cast<std::int64_t>();
@@ -264,8 +266,10 @@ Inspection inspect(const PythonEnvTask& task) {
     const py::object space = env.attr("observation_space");
     try {
       if (py::hasattr(space, "low") && py::hasattr(space, "high")) {
-        for (const py::handle& x : py::iter(space.attr("low"))) result.low.push_back(x.cast<double>());
-        for (const py::handle& x : py::iter(space.attr("high"))) result.high.push_back(x.cast<double>());
+        for (const py::handle& x : py::iter(space.attr("low")))
+          result.low.push_back(x.cast<double>());
+        for (const py::handle& x : py::iter(space.attr("high")))
+          result.high.push_back(x.cast<double>());
       }
     } catch (const std::exception&) {
       result.low.clear();
@@ -277,7 +281,8 @@ Inspection inspect(const PythonEnvTask& task) {
 
 PythonEnvTask parse_table(const TomlTableReader& job, const fs::path& job_dir) {
   const std::optional<TomlTableReader> table = job.subtable("python_env", kKeys);
-  if (!table) job.fail("python_env", "required table [python_env] is missing (task = \"python_env\")");
+  if (!table)
+    job.fail("python_env", "required table [python_env] is missing (task = \"python_env\")");
   PythonEnvTask task;
   task.factory = table->string("factory");
   const std::size_t colon = task.factory.find(':');

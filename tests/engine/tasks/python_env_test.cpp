@@ -36,8 +36,8 @@ std::optional<RunRecord> ci_python_env_run(std::vector<std::string> overrides) {
 }
 
 TEST(PythonEnvTwins, MountainCarSamplesReplayInTheCppSimulatorBitForBit) {
-  const auto record = ci_python_env_run({"python_env.series=40",
-                                         "python_env.kwargs.max_episode_steps=30"});
+  const auto record =
+      ci_python_env_run({"python_env.series=40", "python_env.kwargs.max_episode_steps=30"});
   if (!record) GTEST_SKIP() << "GGK_SOURCE_DIR is not set (run through ctest)";
   const sims::mountain_car::MountainCarConfig c;
   const auto& s = record->samples;
@@ -45,15 +45,15 @@ TEST(PythonEnvTwins, MountainCarSamplesReplayInTheCppSimulatorBitForBit) {
   std::int64_t truncated_series = 0;
   for (Eigen::Index i = 0; i < s.observations.rows(); ++i) {
     const auto k = static_cast<std::size_t>(i);
-    const sims::mountain_car::State next = sims::mountain_car::step(
-        c, {s.observations(i, 0), s.observations(i, 1)}, s.actions[k]);
+    const sims::mountain_car::State next =
+        sims::mountain_car::step(c, {s.observations(i, 0), s.observations(i, 1)}, s.actions[k]);
     EXPECT_EQ(next.position, s.next_observations(i, 0));
     EXPECT_EQ(next.velocity, s.next_observations(i, 1));
     EXPECT_EQ(s.terminals[k] != 0, sims::mountain_car::at_goal(c, next));
     EXPECT_EQ(s.rewards[k], -1.0);
     // A series ends at 30 steps (truncated, not absorbing) or at the goal.
-    const bool last = i + 1 == s.observations.rows() ||
-                      s.observations.row(i + 1) != s.next_observations.row(i);
+    const bool last =
+        i + 1 == s.observations.rows() || s.observations.row(i + 1) != s.next_observations.row(i);
     if (last && !s.terminals[k]) ++truncated_series;
   }
   // From Gymnasium's reset in the valley, 30 random pushes never reach the goal.
@@ -62,9 +62,9 @@ TEST(PythonEnvTwins, MountainCarSamplesReplayInTheCppSimulatorBitForBit) {
 }
 
 TEST(PythonEnvTwins, PendulumWithoutNoiseReplaysInTheCppSimulatorBitForBit) {
-  const auto record = ci_python_env_run(
-      {"python_env.factory=\"ggk_test_envs.pendulum:PendulumTwin\"", "python_env.series=30",
-       "lspi.gamma=0.95"});
+  const auto record =
+      ci_python_env_run({"python_env.factory=\"ggk_test_envs.pendulum:PendulumTwin\"",
+                         "python_env.series=30", "lspi.gamma=0.95"});
   if (!record) GTEST_SKIP() << "GGK_SOURCE_DIR is not set (run through ctest)";
   sims::pendulum::PendulumConfig c;
   c.noise = 0.0;
