@@ -8,6 +8,7 @@
 
 #include "engine/tasks/continuous_protocol.hpp"
 #include "engine/tasks/continuous_table.hpp"
+#include "engine/tasks/continuous_task.hpp"
 #include "sims/acrobot/acrobot.hpp"
 
 namespace ggk::engine {
@@ -35,7 +36,7 @@ constexpr std::array<ObservationDimension, 6> kDimensions = {
      {"velocity1", 2.0 * acrobot::kMaxVelocity1},
      {"velocity2", 2.0 * acrobot::kMaxVelocity2}}};
 
-AcrobotTask parse_table(const TomlTableReader& job) {
+AcrobotTask parse_table(const TomlTableReader& job, const std::filesystem::path&) {
   const TomlTableReader table = job.subtable_or_empty("acrobot", kKeys);
   AcrobotTask task;
   task.acrobot.torque_noise =
@@ -90,30 +91,28 @@ class AcrobotEpisode final : public ContinuousEpisode {
   acrobot::State state_{};
 };
 
-RunRecord run(const JobSpec& job, std::int32_t run, std::span<const SweepPoint> points) {
-  const auto& task = task_config_as<AcrobotTask>(job);
+// The share of test episodes that ended before the cap (a fraction).
+constexpr char kEnded[] = "success_rate";
+
+ContinuousEnvironment environment(const AcrobotTask& task) {
   ContinuousEnvironment env;
   env.observation_dimension = 6;
   env.num_actions = acrobot::kNumActions;
   env.action_names = {"torque_minus", "torque_zero", "torque_plus"};
   env.new_episode = [&task] { return std::make_unique<AcrobotEpisode>(task); };
-  env.trace_dimension = 4;
-  env.ended_metric = "success_rate";
-  return run_continuous_protocol(env, task.protocol, job, run, points);
+  env.trace_dimension = 4;  // theta1, theta2, theta1', theta2'
+  env.ended_metric = kEnded;
+  return env;
+}
+
+ContinuousSizes sizes(const AcrobotTask&) {
+  return {6.0, acrobot::kNumActions, 4.0, 0.0, 0.0};
 }
 
 }  // namespace
 
 TaskDefinition acrobot_task_definition() {
-  return {{"acrobot",
-           [](const TomlTableReader& job, const std::filesystem::path&,
-              std::vector<JobInput>&) -> std::any { return parse_table(job); }},
-          run,
-          [](const JobSpec& job) {
-            const ContinuousSizes sizes{6.0, acrobot::kNumActions, 4.0, 0.0, 0.0};
-            return estimate_continuous_run(sizes, task_config_as<AcrobotTask>(job).protocol, job);
-          },
-          [](std::string_view metric) { return continuous_metric_kind("success_rate", metric); }};
+  return continuous_task_definition<parse_table, environment, sizes, kEnded>("acrobot");
 }
 
 }  // namespace ggk::engine

@@ -6,6 +6,7 @@
 
 #include "engine/tasks/continuous_protocol.hpp"
 #include "engine/tasks/continuous_table.hpp"
+#include "engine/tasks/continuous_task.hpp"
 #include "sims/mountain_car/mountain_car.hpp"
 
 namespace ggk::engine {
@@ -28,7 +29,7 @@ constexpr std::array<std::string_view, 2> kWalkStarts = {"state_box", "reset"};
 constexpr std::array<ObservationDimension, 2> kDimensions = {
     {{"position", 1.8}, {"velocity", 0.14}}};
 
-MountainCarTask parse_table(const TomlTableReader& job) {
+MountainCarTask parse_table(const TomlTableReader& job, const std::filesystem::path&) {
   const TomlTableReader table = job.subtable_or_empty("mountain_car", kKeys);
   MountainCarTask task;
   task.car.force = table.number("force", NumberRange::above(0.0), task.car.force);
@@ -79,31 +80,28 @@ class MountainCarEpisode final : public ContinuousEpisode {
   car::State state_;
 };
 
-RunRecord run(const JobSpec& job, std::int32_t run, std::span<const SweepPoint> points) {
-  const auto& task = task_config_as<MountainCarTask>(job);
+// The share of test episodes that ended before the cap (a fraction).
+constexpr char kEnded[] = "success_rate";
+
+ContinuousEnvironment environment(const MountainCarTask& task) {
   ContinuousEnvironment env;
   env.observation_dimension = 2;
   env.num_actions = car::kNumActions;
   env.action_names = {"push_left", "no_push", "push_right"};
   env.new_episode = [&task] { return std::make_unique<MountainCarEpisode>(task); };
   env.trace_dimension = 2;
-  env.ended_metric = "success_rate";
-  return run_continuous_protocol(env, task.protocol, job, run, points);
+  env.ended_metric = kEnded;
+  return env;
+}
+
+ContinuousSizes sizes(const MountainCarTask&) {
+  return {2.0, car::kNumActions, 2.0, 0.0, 0.0};
 }
 
 }  // namespace
 
 TaskDefinition mountain_car_task_definition() {
-  return {{"mountain_car",
-           [](const TomlTableReader& job, const std::filesystem::path&,
-              std::vector<JobInput>&) -> std::any { return parse_table(job); }},
-          run,
-          [](const JobSpec& job) {
-            const ContinuousSizes sizes{2.0, car::kNumActions, 2.0, 0.0, 0.0};
-            return estimate_continuous_run(sizes, task_config_as<MountainCarTask>(job).protocol,
-                                           job);
-          },
-          [](std::string_view metric) { return continuous_metric_kind("success_rate", metric); }};
+  return continuous_task_definition<parse_table, environment, sizes, kEnded>("mountain_car");
 }
 
 }  // namespace ggk::engine

@@ -8,6 +8,7 @@
 
 #include "engine/tasks/continuous_protocol.hpp"
 #include "engine/tasks/continuous_table.hpp"
+#include "engine/tasks/continuous_task.hpp"
 #include "sims/pendulum/pendulum.hpp"
 
 namespace ggk::engine {
@@ -40,7 +41,7 @@ constexpr std::array<std::string_view, 16> kKeys = {"series",
                                                     "start_perturbation"};
 constexpr std::array<std::string_view, 2> kIntegrators = {"rk4", "euler"};
 
-PendulumTask parse_table(const TomlTableReader& job) {
+PendulumTask parse_table(const TomlTableReader& job, const std::filesystem::path&) {
   const TomlTableReader table = job.subtable_or_empty("pendulum", kKeys);
   PendulumTask task;
   pendulum::PendulumConfig& p = task.pendulum;
@@ -107,33 +108,31 @@ class PendulumEpisode final : public ContinuousEpisode {
   pendulum::State state_;
 };
 
-RunRecord run(const JobSpec& job, std::int32_t run, std::span<const SweepPoint> points) {
-  const auto& task = task_config_as<PendulumTask>(job);
+// The share of test episodes that ended before the cap (a fraction).
+constexpr char kEnded[] = "fall_fraction";
+
+ContinuousEnvironment environment(const PendulumTask& task) {
   ContinuousEnvironment env;
   env.observation_dimension = 2;
   env.num_actions = pendulum::kNumActions;
   env.action_names = {"left", "none", "right"};
   env.new_episode = [&task] { return std::make_unique<PendulumEpisode>(task); };
   env.trace_dimension = 2;
-  env.ended_metric = "fall_fraction";
-  return run_continuous_protocol(env, task.protocol, job, run, points);
+  env.ended_metric = kEnded;
+  return env;
+}
+
+// A run's memory follows its samples: random episodes fall after 8.9 steps on
+// average (20 x 1000 in jobs/pendulum.toml; 99.9 % within 23, the longest 28),
+// so a series counts 20 steps, over twice the mean.
+ContinuousSizes sizes(const PendulumTask&) {
+  return {2.0, pendulum::kNumActions, 2.0, 0.0, 0.0, 20.0};
 }
 
 }  // namespace
 
 TaskDefinition pendulum_task_definition() {
-  return {{"pendulum",
-           [](const TomlTableReader& job, const std::filesystem::path&,
-              std::vector<JobInput>&) -> std::any { return parse_table(job); }},
-          run,
-          [](const JobSpec& job) {
-            // A run's memory follows its samples: random episodes fall after 8.9
-            // steps on average (20 x 1000 in jobs/pendulum.toml; 99.9 % within 23,
-            // the longest 28), so a series counts 20 steps, over twice the mean.
-            const ContinuousSizes sizes{2.0, pendulum::kNumActions, 2.0, 0.0, 0.0, 20.0};
-            return estimate_continuous_run(sizes, task_config_as<PendulumTask>(job).protocol, job);
-          },
-          [](std::string_view metric) { return continuous_metric_kind("fall_fraction", metric); }};
+  return continuous_task_definition<parse_table, environment, sizes, kEnded>("pendulum");
 }
 
 }  // namespace ggk::engine

@@ -14,6 +14,7 @@
 
 #include "engine/tasks/continuous_protocol.hpp"
 #include "engine/tasks/continuous_table.hpp"
+#include "engine/tasks/continuous_task.hpp"
 #include "engine/tasks/python_env/python_runtime.hpp"
 
 namespace ggk::engine {
@@ -336,33 +337,30 @@ PythonEnvTask parse_table(const TomlTableReader& job, const fs::path& job_dir) {
   return task;
 }
 
-RunRecord run(const JobSpec& job, std::int32_t run, std::span<const SweepPoint> points) {
-  const auto& task = task_config_as<PythonEnvTask>(job);
+// The share of test episodes that ended before the cap (a fraction).
+constexpr char kEnded[] = "success_rate";
+
+ContinuousEnvironment environment(const PythonEnvTask& task) {
   python::ensure_interpreter();
   ContinuousEnvironment env;
   env.observation_dimension = task.observation_dimension;
   env.num_actions = task.num_actions;
   for (std::int32_t a = 0; a < task.num_actions; ++a) env.action_names.push_back(std::to_string(a));
   env.new_episode = [&task] { return std::make_unique<PythonEpisode>(task); };
-  env.trace_dimension = task.observation_dimension;
-  env.ended_metric = "success_rate";
-  return run_continuous_protocol(env, task.protocol, job, run, points);
+  env.trace_dimension = task.observation_dimension;  // the observation: no hidden state is seen
+  env.ended_metric = kEnded;
+  return env;
+}
+
+ContinuousSizes sizes(const PythonEnvTask& task) {
+  const double d = task.observation_dimension;
+  return {d, static_cast<double>(task.num_actions), d, 0.0, 0.0};
 }
 
 }  // namespace
 
 TaskDefinition python_env_task_definition() {
-  return {{"python_env",
-           [](const TomlTableReader& job, const fs::path& job_dir,
-              std::vector<JobInput>&) -> std::any { return parse_table(job, job_dir); }},
-          run,
-          [](const JobSpec& job) {
-            const auto& task = task_config_as<PythonEnvTask>(job);
-            const double d = task.observation_dimension;
-            const ContinuousSizes sizes{d, static_cast<double>(task.num_actions), d, 0.0, 0.0};
-            return estimate_continuous_run(sizes, task.protocol, job);
-          },
-          [](std::string_view metric) { return continuous_metric_kind("success_rate", metric); }};
+  return continuous_task_definition<parse_table, environment, sizes, kEnded>("python_env");
 }
 
 }  // namespace ggk::engine
