@@ -55,12 +55,16 @@ int run_command(const std::string& job_path, const engine::RunOptions& options,
 }
 
 int validate_command(const std::string& job_path, const std::string& output,
-                     engine::JobLoadOptions load, bool quiet) {
+                     engine::JobLoadOptions load, const engine::RunOptions& run_options,
+                     bool quiet) {
   // Checks what `ggk run` with the same arguments would: the job file, the
-  // overrides, and the output (-o, else the job's, relative to this directory).
-  // A study (study.hpp) has every point checked, and its stages listed.
+  // overrides, the output (-o, else the job's, relative to this directory) and
+  // the memory the job needs at -j (run's refusal, the same message and exit 2;
+  // --ignore-memory-check skips it as it does for run). A study (study.hpp) has
+  // every point checked, and its stages listed.
   if (!output.empty()) load.output_file = output;
   const engine::Study study = engine::load_study(job_path, engine::task_tables(), load);
+  engine::check_study_memory(study, run_options);
   const engine::JobSpec& job = study.job();
   // The largest configuration's run (a study's configurations differ in size).
   engine::JobMemoryEstimate memory = engine::estimate_job_memory(job, 1, 1);
@@ -269,6 +273,13 @@ int main(int argc, char** argv) {
   CLI::App* validate = app.add_subcommand("validate", "Check a job file and exit");
   validate->add_option("job", job_path, "job file (TOML)")->required();
   validate->add_option("-o,--output", output, "the results file `ggk run -o` would write");
+  validate
+      ->add_option("-j,--threads", options.threads,
+                   "worker threads `ggk run -j` would use, for its memory check (default: all "
+                   "cores)")
+      ->check(CLI::Range(1, 4096));
+  validate->add_flag("--ignore-memory-check", options.ignore_memory_check,
+                     "accept a job whose estimated memory exceeds what is available");
   add_set_option(*validate, overrides);
   add_sweep_option(*validate, sweeps);
   // -q on every command: nothing on standard output, no progress or summary on
@@ -382,7 +393,7 @@ int main(int argc, char** argv) {
     if (quiet_rank) return 0;       // the other commands run on rank 0 alone
     std::ostream discard(nullptr);  // -q: what would be printed, dropped
     std::ostream& out = quiet ? discard : std::cout;
-    if (*validate) return validate_command(job_path, output, load, quiet);
+    if (*validate) return validate_command(job_path, output, load, options, quiet);
     // The commands that read files ggk did not just write read them in a child
     // process: a file that crashes the HDF5 library is a damaged file
     // (run/isolated_reading.hpp).

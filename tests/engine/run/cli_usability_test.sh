@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The command line helps: through the real ggk binary. One case per call
 # (tests/CMakeLists.txt):
-#   version        ggk --version prints the version and git description, exit 0
+#   version        ggk --version prints the version, the git description and the
+#                  embedded Python, exit 0
 #   spelling       an unknown command or a mistyped option: exit 2, "did you mean"
 #   output_name    -o results.csv (any non-HDF5 name), or such an [output] file, is
 #                  refused with exit 2 before anything is written
@@ -59,7 +60,9 @@ case $case_name in
 version)
   s=$(status_of "$GGK" --version)
   [ "$s" = 0 ] || fail "--version: status $s"
-  grep -qE '^ggk [0-9]+\.[0-9]+\.[0-9]+ \(.+\)$' "$scratch/out" || fail "--version: $(cat "$scratch/out")"
+  # The version, the git description, and the Python the python_env task embeds
+  # (or that it was built without one).
+  grep -qE '^ggk [0-9]+\.[0-9]+\.[0-9]+ \([^)]+\); (python_env embeds CPython [0-9]+\.[0-9]+\.[0-9]+|built without Python \(no python_env task\))$' "$scratch/out" || fail "--version: $(cat "$scratch/out")"
   ;;
 spelling)
   write_job "$scratch/job.toml"

@@ -158,8 +158,13 @@ TEST_F(MemoryCheckCli, JobsThatCannotFitAreRefusedBeforeAnyOutputExists) {
       EXPECT_TRUE(contains(outcome.err, "--ignore-memory-check"));
       EXPECT_TRUE(fs::is_empty(dir_ / "out")) << "an output file was created";
     }
-    // validate accepts the job: it is well-formed, only too big for this machine.
-    EXPECT_EQ(ggk({"validate", job.string()}).status, 0);
+    // validate is a dry run: it refuses what run refuses, with run's message;
+    // --ignore-memory-check accepts the well-formed job, as it lets run start it.
+    const Outcome validated = ggk({"validate", job.string(), "-j", "2"});
+    EXPECT_EQ(validated.status, kUserError) << validated.err;
+    EXPECT_TRUE(contains(validated.err, "ggk: error: job 'big' needs about ")) << validated.err;
+    EXPECT_TRUE(contains(validated.err, c.names));
+    EXPECT_EQ(ggk({"validate", job.string(), "--ignore-memory-check"}).status, 0);
   }
 }
 
@@ -212,8 +217,13 @@ TEST_F(MemoryCheckCli, UnderAnAddressSpaceLimitNothingHangsAndWhatPassesRuns) {
   auto limited = [&](const std::vector<std::string>& args, std::int64_t mib) {
     return GgkBinaryTest::ggk(args, {.address_space_kib = mib * 1024, .timeout_seconds = 60});
   };
+  // validate applies run's check (all cores' reservations by default): it
+  // exits at once, refusing as run would; past the check it accepts the job.
   const Outcome validated = limited({"validate", job.string()}, 200);
-  EXPECT_EQ(validated.status, 0) << validated.err;
+  EXPECT_EQ(validated.status, kUserError) << validated.err;
+  EXPECT_TRUE(contains(validated.err, "the address-space limit (ulimit -v) of ")) << validated.err;
+  const Outcome forced = limited({"validate", job.string(), "--ignore-memory-check"}, 200);
+  EXPECT_EQ(forced.status, 0) << forced.err;
 
   // Refused: the threads' reservations are named, nothing is written.
   const std::int64_t tight = 400;
