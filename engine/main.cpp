@@ -194,10 +194,22 @@ void check_spelling(const CLI::App& app, int argc, char** argv) {
     for (const std::string& name : option->get_lnames()) options.push_back("--" + name);
     for (const std::string& name : option->get_snames()) options.push_back("-" + name);
   }
+  const bool takes_job = first == "run" || first == "validate";
+  int positionals = 0;
   for (int i = 2; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--") return;
-    if (arg.size() < 2 || arg[0] != '-' || (arg[1] >= '0' && arg[1] <= '9')) continue;
+    if (arg.empty() || arg[0] != '-') {
+      // Hydra's habit: a bare KEY=VALUE after the job, where ggk takes --set / --sweep.
+      if (takes_job && ++positionals > 1 && arg.find('=') != std::string::npos) {
+        const std::string key = arg.substr(0, arg.find('='));
+        throw engine::UsageError(
+            "'" + arg + "': ggk takes no bare KEY=VALUE; write --set " + arg +
+            " to override " + key + ", or --sweep " + arg + " to make it a study axis");
+      }
+      continue;
+    }
+    if (arg.size() < 2 || (arg[1] >= '0' && arg[1] <= '9')) continue;
     const std::string name = arg.substr(0, arg.find('='));
     const bool is_long = arg.rfind("--", 0) == 0;
     const std::string key = is_long ? name : arg.substr(0, 2);

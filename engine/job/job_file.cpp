@@ -5,7 +5,11 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
+#include <optional>
+#include <set>
+#include <string>
 #include <limits>
 #include <memory>
 #include <span>
@@ -322,6 +326,53 @@ void record_unread_keys(const toml::table& table, const std::string& prefix,
 
 // --sweep KEY=V1,V2,...: [sweep] "KEY" = [V1, V2, ...]. Each value is a TOML
 // value or, failing that, a bare string; KEY=[...] takes a TOML array as it is.
+// A range A:B:S (Hydra's habit, with ggk's inclusive end): A, A + S, ... up to
+// B, integers when all three are, else floats (A + i S, i = 0, 1, ...; B is
+// reached within 1e-9 of a step). nullopt when `values` is not of that form.
+std::optional<toml::array> sweep_range(const std::string& values, const std::string& source) {
+  const std::size_t first = values.find(':');
+  const std::size_t second = first == std::string::npos ? first : values.find(':', first + 1);
+  if (second == std::string::npos || values.find(':', second + 1) != std::string::npos ||
+      values.find_first_of(",[\"'") != std::string::npos) {
+    return std::nullopt;
+  }
+  const std::string parts[3] = {values.substr(0, first), values.substr(first + 1, second - first - 1),
+                                values.substr(second + 1)};
+  const auto is_integer = [](const std::string& t) {
+    return !t.empty() && t.find_first_not_of("+-0123456789") == std::string::npos;
+  };
+  const std::string usage = "a range is START:STOP:STEP with STEP > 0 and STOP >= START, "
+                            "e.g. --sweep kernels=4:16:4 (4, 8, 12, 16)";
+  toml::array array;
+  try {
+    if (is_integer(parts[0]) && is_integer(parts[1]) && is_integer(parts[2])) {
+      const std::int64_t start = std::stoll(parts[0]), stop = std::stoll(parts[1]),
+                         step = std::stoll(parts[2]);
+      if (step <= 0 || stop < start || (stop - start) / step >= 10'000) {
+        throw JobError(source, {}, "", usage + " and at most 10000 values");
+      }
+      for (std::int64_t v = start; v <= stop; v += step) array.push_back(v);
+      return array;
+    }
+    std::size_t used = 0;
+    double numbers[3];
+    for (int i = 0; i < 3; ++i) {
+      numbers[i] = std::stod(parts[i], &used);
+      if (used != parts[i].size()) return std::nullopt;
+    }
+    const double count = std::floor((numbers[1] - numbers[0]) / numbers[2] + 1e-9);
+    if (!(numbers[2] > 0.0) || !(count >= 0.0) || count >= 10'000.0) {
+      throw JobError(source, {}, "", usage + " and at most 10000 values");
+    }
+    for (int i = 0; i <= static_cast<int>(count); ++i) array.push_back(numbers[0] + i * numbers[2]);
+    return array;
+  } catch (const std::invalid_argument&) {
+    return std::nullopt;
+  } catch (const std::out_of_range&) {
+    throw JobError(source, {}, "", usage + " (a bound is out of range)");
+  }
+}
+
 void apply_sweep_option(toml::table& root, const std::string& text) {
   const std::string source = "--sweep " + shortened(text);
   const std::size_t equals = text.find('=');
@@ -346,7 +397,9 @@ void apply_sweep_option(toml::table& root, const std::string& text) {
     }
   };
   toml::array array;
-  if (values.front() == '[') {
+  if (const std::optional<toml::array> range = sweep_range(values, source)) {
+    array = *range;
+  } else if (values.front() == '[') {
     toml::table parsed = parse_value(values);
     const toml::array* given = parsed.get_as<toml::array>("x");
     if (given == nullptr) throw JobError(source, {}, "", "expected KEY=[V1, V2, ...]");
@@ -391,7 +444,16 @@ toml::table parse_job_toml(std::string_view toml_text, const std::string& file,
                    "TOML syntax error: " + std::string(error.description()));
   }
   for (const std::string& override_text : options.overrides) apply_override(root, override_text);
-  for (const std::string& sweep_text : options.sweeps) apply_sweep_option(root, sweep_text);
+  std::set<std::string> swept;  // a key given twice is a mistake, not a replacement
+  for (const std::string& sweep_text : options.sweeps) {
+    const std::string key = sweep_text.substr(0, sweep_text.find('='));
+    if (!swept.insert(key).second) {
+      throw JobError("--sweep " + shortened(sweep_text), {}, "",
+                     "the key " + single_quoted(key) +
+                         " is swept twice; give its values in one --sweep (KEY=V1,V2,...)");
+    }
+    apply_sweep_option(root, sweep_text);
+  }
   return root;
 }
 

@@ -185,6 +185,31 @@ TEST(Study, SweepOptionAddsAnAxis) {
   EXPECT_NE(error_of(maze_job(""), options).find("empty value"), std::string::npos);
 }
 
+// Hydra's habits: a range START:STOP:STEP (the end included when reached), and
+// a key swept twice is refused instead of the second replacing the first.
+TEST(Study, SweepOptionTakesARangeAndRefusesAKeyTwice) {
+  JobLoadOptions options = no_output_check();
+  options.sweeps = {"kernels=4:16:4"};
+  EXPECT_EQ(study_of(maze_job(""), options).job().sweep.kernels,
+            (std::vector<std::int32_t>{4, 8, 12, 16}));
+  options.sweeps = {"kernels=4:15:4"};
+  EXPECT_EQ(study_of(maze_job(""), options).job().sweep.kernels,
+            (std::vector<std::int32_t>{4, 8, 12}));
+  options.sweeps = {"maze.slip=0.0:0.3:0.1"};
+  const Study slips = study_of(maze_job(""), options);
+  ASSERT_EQ(slips.configurations.size(), 4u);
+  EXPECT_EQ(slips.configurations[3].job.resolved.value("maze.slip"),
+            "0.30000000000000004");  // 0.0 + 3 x 0.1, as a range computes it
+  options.sweeps = {"kernels=16:4:4"};
+  EXPECT_NE(error_of(maze_job(""), options).find("STEP > 0 and STOP >= START"), std::string::npos);
+  options.sweeps = {"kernels=4:16:0"};
+  EXPECT_NE(error_of(maze_job(""), options).find("STEP > 0"), std::string::npos);
+  options.sweeps = {"kernels=4,8", "kernels=16"};
+  const std::string twice = error_of(maze_job(""), options);
+  EXPECT_NE(twice.find("--sweep kernels=16: the key 'kernels' is swept twice"), std::string::npos)
+      << twice;
+}
+
 TEST(Study, ParseJobRefusesAStudy) {
   try {
     parse_job(maze_job("\"maze.slip\" = [0.0, 0.1]"), jobs_dir() / "study.toml", task_tables(),

@@ -163,6 +163,10 @@ PY
   expect_error 2 "--set maze.sries=3: [maze] sries: unknown key; did you mean 'series'?" \
     "$GGK" validate "$scratch/job.toml" --set maze.sries=3
   expect_error 2 "--set runs: expected KEY=VALUE" "$GGK" validate "$scratch/job.toml" --set runs
+  # Hydra's habit: a bare KEY=VALUE gets the options that do it.
+  expect_error 2 "'kernels=4,8': ggk takes no bare KEY=VALUE; write --set kernels=4,8 to override kernels, or --sweep kernels=4,8" \
+    "$GGK" run "$scratch/job.toml" kernels=4,8 -o "$scratch/x.h5"
+  expect_error 2 "ggk takes no bare KEY=VALUE" "$GGK" validate "$scratch/job.toml" --set runs=2 maze.series=5
   expect_error 2 "--set sweep.solver=brm: [sweep] solver: expected a non-empty array" \
     "$GGK" validate "$scratch/job.toml" --set sweep.solver=brm
   write_job "$scratch/bad.toml" 'lspi_x = 1'
