@@ -29,7 +29,7 @@ from matplotlib.colors import ListedColormap, SymLogNorm  # noqa: E402
 # ggk_results from this checkout (python/), installed or not (python/README.md).
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
 from ggk_results import (add_format_argument, curve, error_bars, facet_title, facets,  # noqa: E402
-                         legend_below, read_summary, save)
+                         legend_below, read_summary, run_group, save, select_where)
 
 STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)"),
          "pvf": ("tab:green", "^", "proto-value functions (PVF)")}
@@ -83,8 +83,19 @@ def fit_groups(run, basis, kernels):
     return sorted(n for n in run[f"fits/{basis}"] if n.startswith(f"k_{kernels:04d}_"))
 
 
-def fig_state_space(f, out, fmt):
-    run = f["arm/run_000"]
+def configuration_label(summary, configuration):
+    """' (study: key=value, ...)' of the run configuration the run figures show,
+    '' for a plain job's file."""
+    if "configuration" not in summary:
+        return ""
+    rows = summary["configuration"] == (configuration or 0)
+    axes = [c for c in summary if "." in c and c != "configuration"]
+    values = [f"{axis}={summary[axis][rows][0]}" for axis in axes if rows.any()]
+    return f" (study configuration {configuration or 0}: {', '.join(values)})" if values else ""
+
+
+def fig_state_space(f, out, fmt, configuration, label):
+    run = run_group(f, "arm", None, configuration=configuration)
     state_of, shoulders, elbows = grid_axes(run)
     goal = run["grid/goal"][:] > 0
     image = np.where(state_of < 0, 1, 0) + np.where(goal, 2, 0)
@@ -101,7 +112,7 @@ def fig_state_space(f, out, fmt):
     ax.plot([], [], "s", color="tab:orange", label=f"goal ({int(goal.sum())} states)")
     ax.set_xlabel("elbow angle (deg)")
     ax.set_ylabel("shoulder angle (deg)")
-    ax.set_title(f"arm joint space: {int((state_of >= 0).sum())} free poses")
+    ax.set_title(f"arm joint space: {int((state_of >= 0).sum())} free poses{label}", fontsize=10)
     ax.legend(loc="upper right", fontsize=8)
     fig.tight_layout()
     path = save(fig, out, "arm_state_space", fmt)
@@ -109,8 +120,8 @@ def fig_state_space(f, out, fmt):
     return path
 
 
-def fig_values(f, out, kernels, run_index, fmt):
-    run = f[f"arm/run_{run_index:03d}"]
+def fig_values(f, out, kernels, run_index, fmt, configuration, label):
+    run = run_group(f, "arm", run_index, configuration=configuration)
     state_of, shoulders, elbows = grid_axes(run)
     nodes = run["graph/nodes"][:]
     fig, axes = plt.subplots(1, 2, figsize=(13, 4.5))
@@ -135,14 +146,15 @@ def fig_values(f, out, kernels, run_index, fmt):
                      f"{'reaches the goal' if reached else 'fails'}", fontsize=10)
         ax.set_xlabel("elbow angle (deg)")
         ax.set_ylabel("shoulder angle (deg)")
+    if label:
+        fig.suptitle(f"run {run_index}{label}", fontsize=10)
     fig.tight_layout()
     path = save(fig, out, "arm_values", fmt)
     plt.close(fig)
     return path
 
 
-def fig_success(path, out, fmt):
-    summary = read_summary(path, "arm")
+def fig_success(summary, out, fmt):
     runs = len(set(summary["run"]))
     rows = facets(summary, shown=("kernels", "basis"))
     fig, axes = plt.subplots(len(rows), 2, figsize=(11, 4 * len(rows)), squeeze=False)
@@ -178,17 +190,23 @@ def main():
     parser.add_argument("--kernels", type=int, default=None,
                         help="kernel count of Fig. 2 (default: the largest swept)")
     parser.add_argument("--run", type=int, default=0, help="run shown in Fig. 2")
+    parser.add_argument("--where", action="append", default=[], metavar="KEY=VALUE",
+                        help="a study's file: the run configuration with these values of its "
+                             "axes (e.g. --where arm.grid_step_degrees=5; repeatable); without "
+                             "it the run figures show the first and say which")
     add_format_argument(parser)
     args = parser.parse_args()
     out = Path(args.out_dir)
     out.mkdir(parents=True, exist_ok=True)
+    summary, configuration = select_where(read_summary(args.results, "arm"), args.where)
+    label = configuration_label(summary, configuration)
     with h5py.File(args.results, "r") as f:
         kernels = args.kernels
         if kernels is None:
-            kernels = int(max(read_summary(args.results, "arm")["kernels"]))
-        paths = [fig_state_space(f, out, args.format),
-                 fig_values(f, out, kernels, args.run, args.format)]
-    paths.append(fig_success(args.results, out, args.format))
+            kernels = int(max(summary["kernels"]))
+        paths = [fig_state_space(f, out, args.format, configuration, label),
+                 fig_values(f, out, kernels, args.run, args.format, configuration, label)]
+    paths.append(fig_success(summary, out, args.format))
     for path in paths:
         print(path)
 
