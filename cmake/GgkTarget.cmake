@@ -1,4 +1,5 @@
-# Common settings for every ggk target: C++20, warnings, optional sanitizers.
+# Common settings for every ggk target: C++20, warnings, no floating-point
+# contraction, optional sanitizers.
 # Kept per target (no global flags), as CONTRIBUTING.md asks.
 
 function(ggk_configure_target target)
@@ -11,6 +12,12 @@ function(ggk_configure_target target)
   if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
     target_compile_options(${target} PRIVATE -Wno-restrict)
   endif()
+  # No fused multiply-add anywhere: g++ contracts a * b + c into one rounding
+  # whenever the target has FMA (its default for C++ is -ffp-contract=fast), which
+  # would make results depend on -march and the AVX2 paths differ from the portable
+  # ones (kernels/avx2_dispatch.hpp). Every target of the project (libraries, ggk,
+  # tests, benchmarks, fuzzers) comes through here. CONTRIBUTING.md, "Determinism".
+  target_compile_options(${target} PRIVATE -ffp-contract=off)
   if(GGK_WARNINGS_AS_ERRORS)
     target_compile_options(${target} PRIVATE -Werror)
   endif()

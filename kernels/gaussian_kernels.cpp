@@ -1,6 +1,7 @@
 #include "kernels/gaussian_kernels.hpp"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -20,14 +21,24 @@ void check_width(double sigma, double truncation) {
   }
 }
 
-// Fills an N x p sparse matrix row by row from kernel_of(i, j), dropping values
-// below the truncation threshold (and exact zeros). The entries come in row order,
-// columns ascending, so they are written straight into the compressed arrays,
-// sized for a dense table and cut to the entries kept (pages never written are
-// never touched).
-template <typename KernelOf>
-SparseRowMatrix build_kernel_matrix(Eigen::Index rows, Eigen::Index cols, double truncation,
-                                    KernelOf kernel_of) {
+std::string number_text(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+// Fills an N x p sparse matrix row by row from the distances distance_of(i, j),
+// K = gaussian(distance), dropping values below the truncation threshold (and
+// exact zeros). A NaN distance, or an infinite one where `unreachable_allowed` is
+// false (Euclidean distances), throws NonFiniteKernelValue naming (i, j): without
+// the check the comparison below would drop it as a zero. The entries come in row
+// order, columns ascending, so they are written straight into the compressed
+// arrays, sized for a dense table and cut to the entries kept (pages never written
+// are never touched).
+template <typename DistanceOf>
+SparseRowMatrix build_kernel_matrix(Eigen::Index rows, Eigen::Index cols, double sigma,
+                                    double truncation, bool unreachable_allowed,
+                                    DistanceOf distance_of) {
   SparseRowMatrix matrix(rows, cols);
   matrix.resizeNonZeros(rows * cols);
   auto* outer = matrix.outerIndexPtr();
@@ -37,7 +48,14 @@ SparseRowMatrix build_kernel_matrix(Eigen::Index rows, Eigen::Index cols, double
   outer[0] = 0;
   for (Eigen::Index i = 0; i < rows; ++i) {
     for (Eigen::Index j = 0; j < cols; ++j) {
-      const double k = kernel_of(i, j);
+      const double distance = distance_of(i, j);
+      if (std::isnan(distance) || (std::isinf(distance) && !unreachable_allowed)) {
+        throw NonFiniteKernelValue("the kernel value of state " + std::to_string(i) +
+                                       " and centre " + std::to_string(j) +
+                                       " is not finite: distance " + number_text(distance),
+                                   i, j);
+      }
+      const double k = gaussian(distance, sigma);
       if (k > 0.0 && k >= truncation) {
         values[count] = k;
         columns[count] = static_cast<std::int32_t>(j);
@@ -48,6 +66,20 @@ SparseRowMatrix build_kernel_matrix(Eigen::Index rows, Eigen::Index cols, double
   }
   matrix.resizeNonZeros(count);
   return matrix;
+}
+
+// Every row of `points` finite, else NonFiniteKernelValue naming the row (as a
+// state, or as a centre) and its first non-finite coordinate.
+void check_finite_rows(const Eigen::Ref<const RowMatrixXd>& points, bool centres) {
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    if (points.row(i).allFinite()) continue;
+    Eigen::Index coordinate = 0;
+    while (std::isfinite(points(i, coordinate))) ++coordinate;
+    const std::string where = std::string(centres ? "centre " : "state ") + std::to_string(i);
+    throw NonFiniteKernelValue(where + " is not finite: coordinate " + std::to_string(coordinate) +
+                                   " is " + number_text(points(i, coordinate)),
+                               centres ? -1 : i, centres ? i : -1);
+  }
 }
 
 }  // namespace
@@ -66,11 +98,12 @@ SparseRowMatrix ordinary_gaussian_kernels(const Eigen::Ref<const RowMatrixXd>& s
                                 std::to_string(states.cols()) + " dimensions, centres " +
                                 std::to_string(centers.cols()));
   }
+  check_finite_rows(states, false);
+  check_finite_rows(centers, true);
   // Eq. (7): K(s, c) = exp(-ED(s, c)^2 / (2 sigma^2)).
-  return build_kernel_matrix(states.rows(), centers.rows(), truncation,
-                             [&](Eigen::Index i, Eigen::Index j) {
-                               return gaussian((states.row(i) - centers.row(j)).norm(), sigma);
-                             });
+  return build_kernel_matrix(
+      states.rows(), centers.rows(), sigma, truncation, false,
+      [&](Eigen::Index i, Eigen::Index j) { return (states.row(i) - centers.row(j)).norm(); });
 }
 
 SparseRowMatrix geodesic_gaussian_kernels(const Eigen::Ref<const RowMatrixXd>& center_distances,
@@ -78,8 +111,8 @@ SparseRowMatrix geodesic_gaussian_kernels(const Eigen::Ref<const RowMatrixXd>& c
   check_width(sigma, truncation);
   // Eq. (8): K(s, c) = exp(-SP(s, c)^2 / (2 sigma^2)); rows of the input are centres.
   return build_kernel_matrix(
-      center_distances.cols(), center_distances.rows(), truncation,
-      [&](Eigen::Index i, Eigen::Index j) { return gaussian(center_distances(j, i), sigma); });
+      center_distances.cols(), center_distances.rows(), sigma, truncation, true,
+      [&](Eigen::Index i, Eigen::Index j) { return center_distances(j, i); });
 }
 
 SparseRowMatrix continuous_geodesic_gaussian_kernels(
@@ -97,14 +130,20 @@ SparseRowMatrix continuous_geodesic_gaussian_kernels(
                                   std::to_string(i) + " has nearest node " +
                                   std::to_string(nearest_node[i]) + " outside the graph");
     }
+    if (!std::isfinite(distance_to_nearest[i])) {
+      throw NonFiniteKernelValue("state " + std::to_string(i) +
+                                     " is not finite: its distance to its nearest node is " +
+                                     number_text(distance_to_nearest[i]),
+                                 static_cast<Eigen::Index>(i), -1);
+    }
   }
   // SP(s, c) = ED(s, n(s)) + SP(n(s), c) (paper sec. 4.2).
-  return build_kernel_matrix(
-      static_cast<Eigen::Index>(nearest_node.size()), center_distances.rows(), truncation,
-      [&](Eigen::Index i, Eigen::Index j) {
-        const auto s = static_cast<std::size_t>(i);
-        return gaussian(distance_to_nearest[s] + center_distances(j, nearest_node[s]), sigma);
-      });
+  return build_kernel_matrix(static_cast<Eigen::Index>(nearest_node.size()),
+                             center_distances.rows(), sigma, truncation, true,
+                             [&](Eigen::Index i, Eigen::Index j) {
+                               const auto s = static_cast<std::size_t>(i);
+                               return distance_to_nearest[s] + center_distances(j, nearest_node[s]);
+                             });
 }
 
 }  // namespace ggk::kernels

@@ -3,15 +3,35 @@
 //
 // Each function returns an N x p sparse row-major matrix of kernel values
 // K(s_i, c_j). Values below `truncation` become structural zeros so that feature
-// rows stay sparse; truncation = 0 keeps every non-zero value. An infinite distance
-// (unreachable node) gives 0.
+// rows stay sparse; truncation = 0 keeps every non-zero value. An infinite
+// shortest-path distance (unreachable node) gives 0. A NaN distance, an infinite
+// Euclidean distance or a non-finite observation, centre or distance to the nearest
+// node is refused (NonFiniteKernelValue naming the state and the centre): it would
+// otherwise drop out of the table as a zero, a wrong but plausible-looking feature.
 
 #include <cstdint>
 #include <span>
+#include <stdexcept>
+#include <string>
 
 #include "kernels/eigen_types.hpp"
 
 namespace ggk::kernels {
+
+// A kernel value that cannot be formed from finite numbers: state() is the row
+// (the state's index in the call's input), centre() the column (-1: every centre,
+// the state's own input is not finite).
+class NonFiniteKernelValue : public std::domain_error {
+ public:
+  NonFiniteKernelValue(const std::string& what, Eigen::Index state, Eigen::Index centre)
+      : std::domain_error(what), state_(state), centre_(centre) {}
+  Eigen::Index state() const { return state_; }
+  Eigen::Index centre() const { return centre_; }
+
+ private:
+  Eigen::Index state_;
+  Eigen::Index centre_;
+};
 
 // exp(-d^2 / (2 sigma^2)); sigma > 0.
 double gaussian(double distance, double sigma);

@@ -73,7 +73,7 @@ constexpr std::array kSchemas = {
                   "khepera: centre x, y, width, height, angle (degrees)"},
     DatasetSchema{"arena/discs", "disc,disc_field", "cm", "khepera: centre x, y, radius"},
     DatasetSchema{"arena/start", "pose", "cm, rad", "khepera: start x, y, heading"},
-    DatasetSchema{"robot/radius", "scalar", "cm", "khepera: the body's radius"},
+    DatasetSchema{"robot/radius", "value", "cm", "khepera: the body's radius"},
     DatasetSchema{"robot/sensors", "sensor,mount_field", "cm, degrees",
                   "khepera: each IR sensor's mount x, y, heading"},
     DatasetSchema{"robot/start_rays", "ray,ray_field", "cm, flag",
@@ -158,12 +158,6 @@ const DatasetSchema* find_schema(std::string_view key, std::string_view task) {
   return nullptr;
 }
 
-std::size_t rank_of(std::string_view dims) {
-  std::size_t rank = 1;
-  for (const char c : dims) rank += c == ',' ? 1 : 0;
-  return rank;
-}
-
 void describe(Hdf5File::Object& object, std::string_view dims, std::string_view units,
               std::string_view description) {
   object.write_string_attribute("dims", dims);
@@ -190,7 +184,7 @@ void describe_below(Hdf5File::Object& object, const std::string& relative, std::
                            "' has no entry in engine/store/dataset_schema.cpp");
   }
   const std::size_t rank = object.dataset_shape().size();
-  if (rank != rank_of(schema->dims)) {
+  if (rank != dims_rank(schema->dims)) {
     throw std::logic_error("dataset '" + relative + "' has " + std::to_string(rank) +
                            " dimensions, engine/store/dataset_schema.cpp names " +
                            std::string(schema->dims));
@@ -199,6 +193,24 @@ void describe_below(Hdf5File::Object& object, const std::string& relative, std::
 }
 
 }  // namespace
+
+std::size_t dims_rank(std::string_view dims) {
+  if (dims == kScalarDims) return 0;
+  std::size_t rank = 1;
+  std::size_t start = 0;
+  for (std::size_t i = 0; i <= dims.size(); ++i) {
+    if (i < dims.size() && dims[i] != ',') continue;
+    const std::string_view axis = dims.substr(start, i - start);
+    if (axis.empty() || axis == kScalarDims) {
+      throw std::logic_error("dims '" + std::string(dims) +
+                             "' in engine/store/dataset_schema.cpp: an axis name is " +
+                             (axis.empty() ? "empty" : "'scalar' (a dataset of no dimension)"));
+    }
+    if (i < dims.size()) ++rank;
+    start = i + 1;
+  }
+  return rank;
+}
 
 std::span<const DatasetSchema> dataset_schemas() {
   return kSchemas;

@@ -15,7 +15,11 @@
 //   start      a start state of the goal test (start_states: its node)
 //   iteration  an LSPI iteration          episode  an evaluation episode
 //   step       a step of a walk           row      a table row
+//   value      the one element of a single number kept as a 1-element array
+//              (robot/radius)
 // and the small geometry axes named in each entry (corner, pose_field, ...).
+// `scalar` is not an axis: it is the whole `dims` of a dataset of no dimension
+// (an HDF5 scalar dataspace, shape ()); a dataset of shape (1,) has one axis.
 //
 // Dimension scales (H5DS) are not used: they store object references
 // (file addresses) in DIMENSION_LIST / REFERENCE_LIST attributes, which HDF5's
@@ -23,6 +27,7 @@
 // files (ggk merge, a run computed on another MPI rank), and which would make
 // the run digest and `ggk diff` depend on where HDF5 put each object.
 
+#include <cstddef>
 #include <span>
 #include <string>
 #include <string_view>
@@ -39,6 +44,14 @@ struct DatasetSchema {
   std::string_view description;
   std::string_view task = {};  // empty: every task's; a task's name: that task's own, first
 };
+
+// The `dims` of a dataset of no dimension (rank 0).
+inline constexpr std::string_view kScalarDims = "scalar";
+
+// The rank that `dims` names: 0 for kScalarDims, else the number of
+// comma-separated axis names. An empty axis name, or "scalar" among several, is a
+// programmer error (std::logic_error).
+std::size_t dims_rank(std::string_view dims);
 
 // Every entry, run datasets first, in the order results/README.md lists them.
 std::span<const DatasetSchema> dataset_schemas();

@@ -265,9 +265,14 @@ std::vector<FitRecord> fit_points(RunContext& ctx, std::span<const SweepPoint> p
   tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
     const std::vector<std::size_t>& group = groups[g];
     const SweepPoint& first = points[group.front()];
-    const FitTable table = first.kernels > ctx.graph.nodes
-                               ? FitTable()
-                               : state_kernel_table(ctx, first.basis, first.sigma, first.kernels);
+    FitTable table;
+    try {
+      if (first.kernels <= ctx.graph.nodes) {
+        table = state_kernel_table(ctx, first.basis, first.sigma, first.kernels);
+      }
+    } catch (const kernels::NonFiniteKernelValue& e) {
+      throw non_finite_kernel_error(ctx.run, first, e);
+    }
     const kernels::BasisScheme scheme =
         first.basis == KernelType::pvf ? ctx.job->pvf.actions : ctx.job->basis.scheme;
     std::shared_ptr<const kernels::ActionBlockFixed> shared;

@@ -236,17 +236,23 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
   kernels::SparseRowMatrix state_kernels;
   if (pvf) {
     state_kernels = pvf_state_table(ctx.eigenbases.of(point.kernels), ctx.nearest, point.kernels);
-  } else if (point.basis == KernelType::ggk) {
-    state_kernels = kernels::continuous_geodesic_gaussian_kernels(
-        ctx.nearest, ctx.nearest_distance, ctx.graph.center_distances.topRows(point.kernels),
-        point.sigma, truncation);
   } else {
-    kernels::RowMatrixXd center_vectors(point.kernels, env.state_vectors.cols());
-    for (std::int32_t j = 0; j < point.kernels; ++j) {
-      center_vectors.row(j) = env.state_vectors.row(fit.centers[static_cast<std::size_t>(j)]);
+    try {
+      if (point.basis == KernelType::ggk) {
+        state_kernels = kernels::continuous_geodesic_gaussian_kernels(
+            ctx.nearest, ctx.nearest_distance, ctx.graph.center_distances.topRows(point.kernels),
+            point.sigma, truncation);
+      } else {
+        kernels::RowMatrixXd center_vectors(point.kernels, env.state_vectors.cols());
+        for (std::int32_t j = 0; j < point.kernels; ++j) {
+          center_vectors.row(j) = env.state_vectors.row(fit.centers[static_cast<std::size_t>(j)]);
+        }
+        state_kernels = kernels::ordinary_gaussian_kernels(env.state_vectors, center_vectors,
+                                                           point.sigma, truncation);
+      }
+    } catch (const kernels::NonFiniteKernelValue& e) {
+      throw non_finite_kernel_error(ctx.run, point, e);
     }
-    state_kernels = kernels::ordinary_gaussian_kernels(env.state_vectors, center_vectors,
-                                                       point.sigma, truncation);
   }
   const kernels::BasisScheme scheme = pvf ? ctx.job->pvf.actions : ctx.job->basis.scheme;
   const kernels::SparseRowMatrix features =

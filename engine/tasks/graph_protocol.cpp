@@ -1,6 +1,7 @@
 #include "engine/tasks/graph_protocol.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <limits>
 #include <stdexcept>
 
@@ -125,6 +126,16 @@ void set_graph_metrics(FitMetrics& metrics, const RunGraph& graph, double kernel
   metrics.set("median_degree", graph.median_degree);
   metrics.set("geodesic_stretch", graph.geodesic_stretch);
   metrics.set("kernel_gap", kernel_gap);
+}
+
+std::runtime_error non_finite_kernel_error(std::int32_t run, const SweepPoint& point,
+                                           const std::exception& cause) {
+  char sigma[32];  // the shortest text that reads back as the width
+  const auto end = std::to_chars(sigma, sigma + sizeof sigma - 1, point.sigma).ptr;
+  *end = '\0';
+  return std::runtime_error(
+      "run " + std::to_string(run) + ", fit " + std::string(kernel_type_name(point.basis)) +
+      " with " + std::to_string(point.kernels) + " kernels, sigma " + sigma + ": " + cause.what());
 }
 
 FitRecord invalid_fit(const SweepPoint& point, std::int32_t run, const RunGraph& graph,

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -102,6 +103,14 @@ RunGraph run_graph(const kernels::CsrGraph& graph, std::span<const std::uint8_t>
 // Sets graph_nodes, edges, median_degree, geodesic_stretch and kernel_gap
 // (lspi_iterations is the task's to set).
 void set_graph_metrics(FitMetrics& metrics, const RunGraph& graph, double kernel_gap);
+
+// The error that stops a run whose fit meets a kernel value that is not finite
+// (kernels::NonFiniteKernelValue: a NaN or infinite observation, centre or
+// distance): "run R, fit <basis> with P kernels, sigma S: <what>", naming the
+// state and centre. Never a zero feature, never a fit recorded as if it were
+// sound: the run fails (the CLI: exit status 1, what the file holds).
+std::runtime_error non_finite_kernel_error(std::int32_t run, const SweepPoint& point,
+                                           const std::exception& cause);
 
 // The record of a fit that cannot start because it asks for more kernels than
 // the graph has nodes: status "invalid", the message "run R: P kernels requested

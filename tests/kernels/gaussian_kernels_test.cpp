@@ -1,7 +1,9 @@
 #include "kernels/gaussian_kernels.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -67,6 +69,72 @@ TEST(GaussianKernels, ContinuousGeodesicAddsDistanceToNearestNode) {
   const std::vector<std::int32_t> bad = {2, 0};
   EXPECT_THROW(continuous_geodesic_gaussian_kernels(bad, offset, center_distances, 2.0),
                std::invalid_argument);
+}
+
+// The state and centre a refused kernel value names, and its message.
+struct Refusal {
+  Eigen::Index state = -2;
+  Eigen::Index centre = -2;
+  std::string message;
+};
+
+template <typename Call>
+Refusal refusal_of(Call call) {
+  try {
+    call();
+  } catch (const NonFiniteKernelValue& e) {
+    return {e.state(), e.centre(), e.what()};
+  }
+  return {};
+}
+
+// A NaN once dropped out of the table as a zero (the truncation test is false for
+// NaN); now the value is refused, naming its state and centre.
+TEST(GaussianKernels, NonFiniteValuesAreRefusedNamingStateAndCentre) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  RowMatrixXd states(3, 2), centers(2, 2);
+  states << 0, 0, 1, nan, 2, 2;
+  centers << 0, 0, 1, 1;
+  Refusal r = refusal_of([&] { ordinary_gaussian_kernels(states, centers, 1.0); });
+  EXPECT_EQ(r.state, 1);
+  EXPECT_EQ(r.centre, -1);
+  EXPECT_NE(r.message.find("state 1 is not finite: coordinate 1 is nan"), std::string::npos)
+      << r.message;
+  states(1, 1) = 1.0;
+  centers(1, 0) = -inf;
+  r = refusal_of([&] { ordinary_gaussian_kernels(states, centers, 1.0); });
+  EXPECT_EQ(r.state, -1);
+  EXPECT_EQ(r.centre, 1);
+  EXPECT_NE(r.message.find("centre 1 is not finite: coordinate 0 is -inf"), std::string::npos)
+      << r.message;
+
+  // A NaN shortest-path distance; +inf (unreachable) stays a zero.
+  RowMatrixXd center_distances(2, 3);  // 2 centres x 3 nodes
+  center_distances << 0, 1, kUnreachable, 2, nan, 3;
+  r = refusal_of([&] { geodesic_gaussian_kernels(center_distances, 1.0, 0.1); });
+  EXPECT_EQ(r.state, 1);
+  EXPECT_EQ(r.centre, 1);
+  EXPECT_NE(r.message.find("kernel value of state 1 and centre 1 is not finite: distance nan"),
+            std::string::npos)
+      << r.message;
+
+  const std::vector<std::int32_t> nearest = {1, 0, 2};
+  r = refusal_of([&] {
+    continuous_geodesic_gaussian_kernels(nearest, std::vector<double>{0.5, 0.0, 0.0},
+                                         center_distances, 1.0);
+  });
+  EXPECT_EQ(r.state, 0);
+  EXPECT_EQ(r.centre, 1);
+  for (const double bad : {nan, inf}) {
+    r = refusal_of([&] {
+      continuous_geodesic_gaussian_kernels(nearest, std::vector<double>{0.5, bad, 0.0},
+                                           center_distances.topRows(1), 1.0);
+    });
+    EXPECT_EQ(r.state, 1) << bad;
+    EXPECT_EQ(r.centre, -1) << bad;
+    EXPECT_NE(r.message.find("distance to its nearest node"), std::string::npos) << r.message;
+  }
 }
 
 TEST(GaussianKernels, RejectsBadWidths) {

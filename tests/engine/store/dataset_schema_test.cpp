@@ -74,7 +74,8 @@ class DescribedRunTest : public ::testing::Test {
     record_.graph.weights = {1.0, 1.0};
     record_.node_states = kernels::RowMatrixXd::Zero(2, 2);
     record_.action_names = {"up", "down", "left", "right"};
-    record_.arrays = {{"start_states", {1}, {0}, ElementType::kInt32}};
+    record_.arrays = {{"start_states", {1}, {0}, ElementType::kInt32},
+                      {"robot/radius", {1}, {2.6}}};  // shape (1,): one axis
     FitRecord fit;
     fit.point = expand_sweep(job_).front();
     fit.status = "converged";
@@ -111,9 +112,11 @@ TEST_F(DescribedRunTest, EveryDatasetNamesItsAxesUnitsAndMeaning) {
     ASSERT_TRUE(file.has_attribute(path, "dims")) << path;
     ASSERT_TRUE(file.has_attribute(path, "units")) << path;
     ASSERT_TRUE(file.has_attribute(path, "description")) << path;
+    // One axis name per dimension; "scalar" only for a dataset of no dimension.
     const std::string dims = file.read_string_attribute(path, "dims");
     const std::size_t commas = static_cast<std::size_t>(std::count(dims.begin(), dims.end(), ','));
-    EXPECT_EQ(commas + 1, file.dataset_shape(path).size()) << path << ": " << dims;
+    EXPECT_EQ(dims == "scalar" ? 0 : commas + 1, file.dataset_shape(path).size())
+        << path << ": " << dims;
     EXPECT_FALSE(file.read_string_attribute(path, "description").empty()) << path;
   };
   check("/maze");
@@ -123,6 +126,7 @@ TEST_F(DescribedRunTest, EveryDatasetNamesItsAxesUnitsAndMeaning) {
   EXPECT_EQ(file.read_string_attribute(fit + "/steps_to_goal", "dims"), "start");
   EXPECT_EQ(file.read_string_attribute(fit + "/history/success_rate", "dims"), "iteration");
   EXPECT_EQ(file.read_string_attribute("/maze/summary", "dims"), "row");
+  EXPECT_EQ(file.read_string_attribute("/maze/run_000/robot/radius", "dims"), "value");
   EXPECT_EQ(file.read_strings("/maze/run_000/action_names"),
             (std::vector<std::string>{"up", "down", "left", "right"}));
 }
@@ -140,6 +144,20 @@ TEST_F(DescribedRunTest, ADatasetOutsideTheSchemaIsRefusedNamingIt) {
   record_.fits.front().arrays.back() = {"steps_to_goal", {1, 1}, {3}, ElementType::kInt32};
   record_.fits.front().arrays.erase(record_.fits.front().arrays.begin());
   EXPECT_THROW(write_run(file, job_, record_), std::logic_error);  // rank 2, schema 1
+}
+
+// "scalar" names a dataset of no dimension; every other entry names one axis per
+// dimension, so the rank check is exact for every dataset.
+TEST(DatasetSchema, DimsNameTheRankExactly) {
+  EXPECT_EQ(dims_rank("scalar"), 0u);
+  EXPECT_EQ(dims_rank("value"), 1u);
+  EXPECT_EQ(dims_rank("node,observation_dim"), 2u);
+  EXPECT_THROW(dims_rank(""), std::logic_error);
+  EXPECT_THROW(dims_rank("node,,sensor"), std::logic_error);
+  EXPECT_THROW(dims_rank("node,scalar"), std::logic_error);
+  for (const DatasetSchema& schema : dataset_schemas()) {
+    EXPECT_NO_THROW(dims_rank(schema.dims)) << schema.path;
+  }
 }
 
 TEST(DatasetSchema, ResultsReadmeHoldsTheSchemasTable) {
