@@ -64,7 +64,7 @@ struct LspiSettings {
   double gamma = 0.9;
   std::int32_t max_iterations = 20;
   bool fold_duplicates = true;  // merge identical transitions into weighted samples
-  double min_rcond = 1e-14;     // smaller reciprocal condition estimates fail the fit
+  double min_rcond = 1e-14;     // smaller reciprocal 1-norm condition estimates fail the fit
   kernels::LspiStopping stopping = kernels::LspiStopping::policy_unchanged;
   double weight_tolerance = 1e-5;    // epsilon of the "weights" rule
   bool evaluate_iterations = false;  // store and test every iteration's weights
