@@ -69,6 +69,9 @@ struct LspiSettings {
   double weight_tolerance = 1e-5;    // epsilon of the "weights" rule
   bool evaluate_iterations = false;  // store and test every iteration's weights
   kernels::LinearAlgebra linear_algebra = kernels::LinearAlgebra::automatic;
+  // lambda as given ("absolute") or times the system's scale ("relative",
+  // kernels::RidgeScale says which scale).
+  kernels::RidgeScale ridge = kernels::RidgeScale::absolute;
 };
 
 struct OutputSettings {
