@@ -7,6 +7,7 @@
 #include <string>
 
 #include "kernels/blas_runtime.hpp"
+#include "kernels/condition_estimate.hpp"
 #include "kernels/solve_checks.hpp"
 
 // LAPACK's Fortran entry points (reference LAPACK and OpenBLAS alike; 32-bit
@@ -18,6 +19,10 @@ void dpotrs_(const char* uplo, const int* n, const int* nrhs, const double* a, c
 void dgetrf_(const int* m, const int* n, double* a, const int* lda, int* ipiv, int* info);
 void dgetrs_(const char* trans, const int* n, const int* nrhs, const double* a, const int* lda,
              const int* ipiv, double* b, const int* ldb, int* info);
+double dlansy_(const char* norm, const char* uplo, const int* n, const double* a, const int* lda,
+               double* work);
+void dpocon_(const char* uplo, const int* n, const double* a, const int* lda, const double* anorm,
+             double* rcond, double* work, int* iwork, int* info);
 }
 
 namespace ggk::kernels {
@@ -61,6 +66,10 @@ SolveReport DenseSymmetricSolver::solve(const Eigen::MatrixXd& a, double ridge,
   load_lower(a, ridge, factor_);
   const int n = static_cast<int>(a.rows());
   const int lda = std::max(1, n);
+  work_.resize(3 * static_cast<std::size_t>(n));
+  iwork_.resize(static_cast<std::size_t>(n));
+  const double a_norm =
+      dlansy_("1", "L", &n, factor_.data(), &lda, work_.data());  // ||A + ridge I||_1
   int info = 0;
   dpotrf_("L", &n, factor_.data(), &lda, &info);
   if (info != 0) {
@@ -74,11 +83,11 @@ SolveReport DenseSymmetricSolver::solve(const Eigen::MatrixXd& a, double ridge,
     report.message = message.str();
     return report;
   }
+  // LAPACK's 1-norm estimate on the factor (condition_estimate.hpp says what it is).
   double rcond = 0.0;
   if (n > 0) {
-    const auto diagonal = factor_.diagonal();
-    const double ratio = diagonal.minCoeff() / diagonal.maxCoeff();
-    rcond = ratio * ratio;  // cholmod_rcond's estimate for an LL^T factor
+    dpocon_("L", &n, factor_.data(), &lda, &a_norm, &rcond, work_.data(), iwork_.data(), &info);
+    if (info != 0) rcond = 0.0;
   }
   Eigen::VectorXd candidate = b;
   const int one = 1;
@@ -148,6 +157,52 @@ std::vector<std::vector<Eigen::Index>> block_components(
 
 }  // namespace
 
+// v <- (A + ridge I)^-1 v, or its transpose's, with the components' factors: A is
+// block lower triangular in component order, A^T block upper triangular, solved
+// from the last component back.
+bool DenseLuSolver::block_solve(const Eigen::MatrixXd& a, Eigen::Index bs,
+                                const std::vector<std::vector<bool>>& depends,
+                                const std::vector<std::vector<Eigen::Index>>& components,
+                                Eigen::VectorXd& v, bool transposed) const {
+  const auto count = static_cast<std::ptrdiff_t>(components.size());
+  const Eigen::Index nb = static_cast<Eigen::Index>(depends.size());
+  std::vector<bool> solved(static_cast<std::size_t>(nb), false);
+  for (std::ptrdiff_t step = 0; step < count; ++step) {
+    const auto k = static_cast<std::size_t>(transposed ? count - 1 - step : step);
+    const std::vector<Eigen::Index>& component = components[k];
+    const auto size = static_cast<Eigen::Index>(component.size()) * bs;
+    Eigen::VectorXd rhs(size);
+    for (std::size_t r = 0; r < component.size(); ++r) {
+      const Eigen::Index i = component[r];
+      Eigen::Ref<Eigen::VectorXd> rhs_i = rhs.segment(static_cast<Eigen::Index>(r) * bs, bs);
+      rhs_i = v.segment(i * bs, bs);
+      for (Eigen::Index j = 0; j < nb; ++j) {
+        if (!solved[static_cast<std::size_t>(j)]) continue;
+        // A_ij x_j (A x = v), or A_ji^T x_j (A^T x = v): the off-diagonal blocks
+        // hold no ridge.
+        if (!transposed && depends[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]) {
+          rhs_i.noalias() -= a.block(i * bs, j * bs, bs, bs) * v.segment(j * bs, bs);
+        } else if (transposed &&
+                   depends[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)]) {
+          rhs_i.noalias() -= a.block(j * bs, i * bs, bs, bs).transpose() * v.segment(j * bs, bs);
+        }
+      }
+    }
+    const int m = static_cast<int>(size);
+    const int lda = std::max(1, m);
+    const int one = 1;
+    int info = 0;
+    dgetrs_(transposed ? "T" : "N", &m, &one, factors_[k].data(), &lda, pivots_[k].data(),
+            rhs.data(), &lda, &info);
+    if (info != 0) return false;
+    for (std::size_t r = 0; r < component.size(); ++r) {
+      v.segment(component[r] * bs, bs) = rhs.segment(static_cast<Eigen::Index>(r) * bs, bs);
+      solved[static_cast<std::size_t>(component[r])] = true;
+    }
+  }
+  return true;
+}
+
 SolveReport DenseLuSolver::solve(const Eigen::MatrixXd& a, double ridge, const Eigen::VectorXd& b,
                                  Eigen::VectorXd& x, Eigen::Index block_size) {
   SolveReport report;
@@ -165,13 +220,18 @@ SolveReport DenseLuSolver::solve(const Eigen::MatrixXd& a, double ridge, const E
     }
   }
   Eigen::VectorXd candidate = b;
-  double min_pivot = std::numeric_limits<double>::infinity(), max_pivot = 0.0;
-  for (const std::vector<Eigen::Index>& component : block_components(depends)) {
+  const std::vector<std::vector<Eigen::Index>> components = block_components(depends);
+  if (factors_.size() < components.size()) factors_.resize(components.size());
+  if (pivots_.size() < components.size()) pivots_.resize(components.size());
+  for (std::size_t k = 0; k < components.size(); ++k) {
+    const std::vector<Eigen::Index>& component = components[k];
+    Eigen::MatrixXd& factor = factors_[k];
+    std::vector<int>& component_pivots = pivots_[k];
     // rhs_S = b_S - sum over solved blocks T of A_ST x_T (x_T in `candidate`);
     // a block that no solved block reaches keeps b_S bit for bit.
     const auto size = static_cast<Eigen::Index>(component.size()) * bs;
     Eigen::VectorXd rhs(size);
-    factor_.resize(size, size);
+    factor.resize(size, size);
     for (std::size_t r = 0; r < component.size(); ++r) {
       const Eigen::Index i = component[r];
       Eigen::Ref<Eigen::VectorXd> rhs_i = rhs.segment(static_cast<Eigen::Index>(r) * bs, bs);
@@ -184,16 +244,16 @@ SolveReport DenseLuSolver::solve(const Eigen::MatrixXd& a, double ridge, const E
         rhs_i.noalias() -= a.block(i * bs, j * bs, bs, bs) * candidate.segment(j * bs, bs);
       }
       for (std::size_t c = 0; c < component.size(); ++c) {
-        factor_.block(static_cast<Eigen::Index>(r) * bs, static_cast<Eigen::Index>(c) * bs, bs,
-                      bs) = a.block(i * bs, component[c] * bs, bs, bs);
+        factor.block(static_cast<Eigen::Index>(r) * bs, static_cast<Eigen::Index>(c) * bs, bs, bs) =
+            a.block(i * bs, component[c] * bs, bs, bs);
       }
     }
-    factor_.diagonal().array() += ridge;
+    factor.diagonal().array() += ridge;
     const int m = static_cast<int>(size);
     const int lda = std::max(1, m);
-    pivots_.resize(static_cast<std::size_t>(m));
+    component_pivots.resize(static_cast<std::size_t>(m));
     int info = 0;
-    dgetrf_(&m, &m, factor_.data(), &lda, pivots_.data(), &info);
+    dgetrf_(&m, &m, factor.data(), &lda, component_pivots.data(), &info);
     if (info < 0) {
       report.message = "LAPACK dgetrf: argument " + std::to_string(-info) + " is invalid";
       return report;
@@ -206,17 +266,23 @@ SolveReport DenseLuSolver::solve(const Eigen::MatrixXd& a, double ridge, const E
                        std::to_string(column) + ") is exactly zero)";
       return report;
     }
-    const Eigen::VectorXd magnitudes = factor_.diagonal().cwiseAbs();
-    min_pivot = std::min(min_pivot, magnitudes.minCoeff());
-    max_pivot = std::max(max_pivot, magnitudes.maxCoeff());
     const int one = 1;
-    dgetrs_("N", &m, &one, factor_.data(), &lda, pivots_.data(), rhs.data(), &lda, &info);
+    dgetrs_("N", &m, &one, factor.data(), &lda, component_pivots.data(), rhs.data(), &lda, &info);
     for (std::size_t r = 0; r < component.size(); ++r) {
       candidate.segment(component[r] * bs, bs) = rhs.segment(static_cast<Eigen::Index>(r) * bs, bs);
     }
   }
-  // UMFPACK_RCOND's estimate over the whole block triangular factor.
-  const double rcond = n > 0 ? min_pivot / max_pivot : 0.0;
+  // LAPACK's 1-norm estimate (dgecon's, condition_estimate.hpp) over the whole
+  // block triangular factor: ||A + ridge I||_1, and dlacn2 with its solves.
+  double a_norm = 0.0;
+  for (Eigen::Index col = 0; col < n; ++col) {
+    a_norm = std::max(a_norm, a.col(col).cwiseAbs().sum() - std::abs(a(col, col)) +
+                                  std::abs(a(col, col) + ridge));
+  }
+  const double rcond = reciprocal_condition(
+      a_norm, inverse_one_norm_estimate(n, [&](Eigen::VectorXd& v, bool transposed) {
+        return block_solve(a, bs, depends, components, v, transposed);
+      }));
   solve_checks::accept_solution(
       rcond, settings_.min_rcond, std::move(candidate), b,
       [&](const Eigen::VectorXd& v) {

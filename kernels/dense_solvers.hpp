@@ -16,10 +16,11 @@
 // LU of the whole matrix.
 // A matrix that is not positive definite / is singular, a reciprocal condition
 // estimate under min_rcond, or a non-finite solution is reported and the solution
-// is left untouched. The estimates are the sparse solvers' own definitions, read
-// off the dense factors: Cholesky (min L_ii / max L_ii)^2 as CHOLMOD's
-// cholmod_rcond, LU min |U_ii| / max |U_ii| as UMFPACK's UMFPACK_RCOND, so
-// min_rcond means one thing for both kinds.
+// is left untouched. The estimate is LAPACK's reciprocal 1-norm condition estimate
+// on the factor (condition_estimate.hpp): dpocon for the Cholesky factor; for the
+// LU, dgecon's estimator (dlacn2) over the whole block triangular factor. The
+// sparse solvers estimate the same number, so min_rcond means one thing for both
+// kinds.
 //
 // Why dense at all: the LSPI systems of Gaussian kernels are mostly dense (each
 // p x p action block is a sum of kernel outer products), and on a dense matrix a
@@ -49,6 +50,8 @@ class DenseSymmetricSolver {
  private:
   SolverSettings settings_;
   Eigen::MatrixXd factor_;  // reused from call to call: no fresh pages per solve
+  std::vector<double> work_;
+  std::vector<int> iwork_;
 };
 
 class DenseLuSolver {
@@ -61,9 +64,14 @@ class DenseLuSolver {
                     Eigen::VectorXd& x, Eigen::Index block_size = 0);
 
  private:
+  bool block_solve(const Eigen::MatrixXd& a, Eigen::Index block_size,
+                   const std::vector<std::vector<bool>>& depends,
+                   const std::vector<std::vector<Eigen::Index>>& components, Eigen::VectorXd& v,
+                   bool transposed) const;
+
   SolverSettings settings_;
-  Eigen::MatrixXd factor_;
-  std::vector<int> pivots_;
+  std::vector<Eigen::MatrixXd> factors_;  // one per component, reused from call to call
+  std::vector<std::vector<int>> pivots_;
 };
 
 }  // namespace ggk::kernels

@@ -58,7 +58,17 @@ const char* to_string(LinearAlgebra kind) {
   return "unknown";
 }
 
+const char* to_string(RidgeScale scale) {
+  return scale == RidgeScale::relative ? "relative" : "absolute";
+}
+
 namespace {
+
+// The ridge added to `system` (the evaluation's A before it), RidgeScale's rule.
+double ridge_for(const Eigen::MatrixXd& system, const LspiOptions& options) {
+  if (options.ridge_scale == RidgeScale::absolute || system.cols() == 0) return options.ridge;
+  return options.ridge * (system.diagonal().cwiseAbs().sum() / static_cast<double>(system.cols()));
+}
 
 // A as CHOLMOD / UMFPACK take it: compressed columns, the lower triangle only when
 // `triangle` is lower (BRM), ridge added to the diagonal. The diagonal is always
@@ -285,10 +295,11 @@ LspiResult iterate_policies(ActionBlockSystem& system, const std::vector<std::in
   Eigen::MatrixXd dense_a, last_dense;
   SparseColMatrix a, last_a;
   bool last_was_dense = false;
+  double last_ridge = options.ridge;
   auto finish = [&](LspiStatus status) {
     result.status = status;
     if (last_was_dense) {
-      compress_system(last_dense, triangle, options.ridge, result.a);
+      compress_system(last_dense, triangle, last_ridge, result.a);
     } else {
       result.a = std::move(last_a);
     }
@@ -301,13 +312,14 @@ LspiResult iterate_policies(ActionBlockSystem& system, const std::vector<std::in
         options.linear_algebra == LinearAlgebra::dense ||
         (options.linear_algebra == LinearAlgebra::automatic && dense_enough(dense_a, triangle));
 
+    const double ridge = ridge_for(dense_a, options);
     Eigen::VectorXd w;
     SolveReport report;
     if (dense) {
-      report = brm ? dense_symmetric.solve(dense_a, options.ridge, b, w)
-                   : dense_lu.solve(dense_a, options.ridge, b, w, system.block_size());
+      report = brm ? dense_symmetric.solve(dense_a, ridge, b, w)
+                   : dense_lu.solve(dense_a, ridge, b, w, system.block_size());
     } else {
-      compress_system(dense_a, triangle, options.ridge, a);
+      compress_system(dense_a, triangle, ridge, a);
       report = brm ? symmetric.solve(a, b, w) : nonsymmetric.solve(a, b, w);
     }
     if (!report.ok) {
@@ -334,6 +346,7 @@ LspiResult iterate_policies(ActionBlockSystem& system, const std::vector<std::in
       a.swap(last_a);
     }
     last_was_dense = dense;
+    last_ridge = ridge;
     result.b = std::move(b);
     policy = std::move(improved);
     const bool stop = options.stopping == LspiStopping::policy_unchanged

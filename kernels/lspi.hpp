@@ -45,6 +45,15 @@ enum class LspiSolver { brm, lstdq };
 
 enum class LspiStopping { policy_unchanged, weights_converged };
 
+// The ridge each evaluation adds to its system A (BRM: Psi^T W Psi; LSTD-Q:
+// Phi^T W (Phi - gamma Phi'_pi)): absolute: lambda I (lambda = LspiOptions::ridge);
+// relative: lambda s I with s = sum_j |A_jj| / k, the mean absolute diagonal entry
+// of the k x k system before the ridge, formed anew in every evaluation. For BRM
+// (A positive semi-definite) s = trace(A) / k: the mean eigenvalue of A, its
+// nuclear norm over k, and ||W^1/2 Psi||_F^2 / k; lambda is then a share of A's
+// scale, whatever the kernels' and the samples' numbers make that scale.
+enum class RidgeScale { absolute, relative };
+
 // How each evaluation's system is factorised. sparse: CHOLMOD (BRM) / UMFPACK
 // (LSTD-Q) on the compressed system; dense: LAPACK dpotrf / dgetrf
 // (dense_solvers.hpp), LU in block triangular form over the action blocks;
@@ -74,6 +83,7 @@ inline constexpr double kDenseSystemDensity = 0.25;
 struct LspiOptions {
   double gamma = 0.9;
   double ridge = 0.0;  // lambda
+  RidgeScale ridge_scale = RidgeScale::absolute;
   std::int32_t max_iterations = 20;
   LspiSolver solver = LspiSolver::brm;
   LspiStopping stopping = LspiStopping::policy_unchanged;
@@ -93,6 +103,7 @@ const char* to_string(LspiStatus status);
 const char* to_string(LspiSolver solver);
 const char* to_string(LspiStopping stopping);  // "policy" or "weights"
 const char* to_string(LinearAlgebra kind);     // "auto", "sparse" or "dense"
+const char* to_string(RidgeScale scale);       // "absolute" or "relative"
 
 struct LspiIteration {
   std::int32_t policy_changes =

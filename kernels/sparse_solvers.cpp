@@ -9,16 +9,17 @@
 #include <Eigen/UmfPackSupport>
 
 #include "kernels/blas_runtime.hpp"
+#include "kernels/condition_estimate.hpp"
 #include "kernels/solve_checks.hpp"
 
 namespace ggk::kernels {
 
 namespace {
 
-// Eigen's wrappers keep the factor and the solver's info array protected; these
-// subclasses expose the reciprocal condition estimates and give both solvers one
-// interface for solve_with(): analyse(A), factorise(A) -> failure message (empty
-// on success), rcond(), apply(A, v) = A v.
+// Eigen's wrappers keep the factor protected; these subclasses give both solvers
+// one interface for solve_with(): analyse(A), factorise(A) -> failure message
+// (empty on success), rcond(A): LAPACK's reciprocal 1-norm condition estimate
+// (condition_estimate.hpp) from solves with the factor, apply(A, v) = A v.
 class CholmodFactorization : public Eigen::CholmodDecomposition<SparseColMatrix, Eigen::Lower> {
  public:
   CholmodFactorization() {
@@ -41,7 +42,14 @@ class CholmodFactorization : public Eigen::CholmodDecomposition<SparseColMatrix,
             << m_cholmodFactor->minor << " of " << a.rows() << ")";
     return message.str();
   }
-  double rcond() { return cholmod_rcond(m_cholmodFactor, &cholmod()); }
+  // A is symmetric: A^-T = A^-1.
+  double rcond(const SparseColMatrix& a) {
+    return reciprocal_condition(symmetric_one_norm(a),
+                                inverse_one_norm_estimate(a.rows(), [&](Eigen::VectorXd& v, bool) {
+                                  v = solve(v).eval();
+                                  return info() == Eigen::Success;
+                                }));
+  }
   static Eigen::VectorXd apply(const SparseColMatrix& a, const Eigen::VectorXd& v) {
     return a.selfadjointView<Eigen::Lower>() * v;
   }
@@ -59,7 +67,18 @@ class UmfpackFactorization : public Eigen::UmfPackLU<SparseColMatrix> {
     return "UMFPACK: matrix is singular (status " + std::to_string(umfpackFactorizeReturncode()) +
            ")";
   }
-  double rcond() const { return m_umfpackInfo(UMFPACK_RCOND); }
+  double rcond(const SparseColMatrix& a) {
+    return reciprocal_condition(
+        one_norm(a), inverse_one_norm_estimate(a.rows(), [&](Eigen::VectorXd& v, bool transposed) {
+          Eigen::VectorXd x(v.size());
+          const auto status =
+              Eigen::umfpack_solve(transposed ? UMFPACK_At : UMFPACK_A, mp_matrix.outerIndexPtr(),
+                                   mp_matrix.innerIndexPtr(), mp_matrix.valuePtr(), x.data(),
+                                   v.data(), m_numeric, m_control.data(), m_umfpackInfo.data());
+          v = x;
+          return status == UMFPACK_OK;
+        }));
+  }
   static Eigen::VectorXd apply(const SparseColMatrix& a, const Eigen::VectorXd& v) { return a * v; }
 };
 
@@ -117,7 +136,7 @@ SolveReport solve_with(Factorization& factorization, Pattern& pattern, double mi
     return report;
   }
   solve_checks::accept_solution(
-      factorization.rcond(), min_rcond, factorization.solve(b), b,
+      factorization.rcond(a), min_rcond, factorization.solve(b), b,
       [&](const Eigen::VectorXd& v) { return Factorization::apply(a, v); }, report, x);
   return report;
 }

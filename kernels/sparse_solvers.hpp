@@ -21,15 +21,17 @@ namespace ggk::kernels {
 struct SolveReport {
   bool ok = false;
   std::string message;             // why it failed; empty when ok
-  double rcond = 0.0;              // reciprocal condition estimate of the factorisation
+  double rcond = 0.0;              // LAPACK's reciprocal 1-norm condition estimate of A
+                                   // (condition_estimate.hpp)
   double relative_residual = 0.0;  // ||A x - b|| / ||b||
   bool reused_analysis = false;    // the symbolic analysis of the previous call was reused
 };
 
 struct SolverSettings {
-  // Factorisations with a reciprocal condition estimate below this are reported as
-  // ill-conditioned. CHOLMOD's estimate is (min diag L / max diag L)^2, UMFPACK's
-  // min |U_ii| / max |U_ii|.
+  // Systems with a reciprocal condition estimate below this are reported as
+  // ill-conditioned. The estimate is LAPACK's reciprocal 1-norm condition number
+  // estimate, 1 / (||A||_1 est(||A^-1||_1)), for every solver, sparse or dense
+  // (condition_estimate.hpp).
   double min_rcond = 1e-14;
 };
 

@@ -48,9 +48,10 @@ constexpr std::array<std::string_view, 9> kCommonTopLevelKeys = {
     "name", "task", "runs", "seed", "sweep", "basis", "pvf", "lspi", "output"};
 constexpr std::array<std::string_view, 2> kBasisKeys = {"scheme", "truncation"};
 constexpr std::array<std::string_view, 3> kPvfKeys = {"laplacian", "edge_weights", "actions"};
-constexpr std::array<std::string_view, 8> kLspiKeys = {
+constexpr std::array<std::string_view, 9> kLspiKeys = {
     "gamma",    "max_iterations",   "fold_duplicates",     "min_rcond",
-    "stopping", "weight_tolerance", "evaluate_iterations", "linear_algebra"};
+    "stopping", "weight_tolerance", "evaluate_iterations", "linear_algebra",
+    "ridge"};
 constexpr std::array<std::string_view, 3> kOutputKeys = {"file", "compression", "store_matrices"};
 
 constexpr std::array<std::string_view, 3> kKernelTypeNames = {"ggk", "ogk", "pvf"};
@@ -60,6 +61,7 @@ constexpr std::array<std::string_view, 2> kSolverNames = {"brm", "lstdq"};
 constexpr std::array<std::string_view, 2> kSchemeNames = {"shift", "copy"};
 constexpr std::array<std::string_view, 2> kStoppingNames = {"policy", "weights"};
 constexpr std::array<std::string_view, 3> kLinearAlgebraNames = {"auto", "sparse", "dense"};
+constexpr std::array<std::string_view, 2> kRidgeScaleNames = {"absolute", "relative"};
 
 bool is_valid_name(std::string_view name) {
   if (name.empty()) return false;
@@ -147,6 +149,9 @@ LspiSettings parse_lspi(const TomlTableReader& job) {
   lspi.linear_algebra = linear_algebra == "sparse"  ? kernels::LinearAlgebra::sparse
                         : linear_algebra == "dense" ? kernels::LinearAlgebra::dense
                                                     : kernels::LinearAlgebra::automatic;
+  lspi.ridge = table.choice("ridge", kRidgeScaleNames, "absolute") == "relative"
+                   ? kernels::RidgeScale::relative
+                   : kernels::RidgeScale::absolute;
   return lspi;
 }
 

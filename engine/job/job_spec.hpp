@@ -64,11 +64,14 @@ struct LspiSettings {
   double gamma = 0.9;
   std::int32_t max_iterations = 20;
   bool fold_duplicates = true;  // merge identical transitions into weighted samples
-  double min_rcond = 1e-14;     // smaller reciprocal condition estimates fail the fit
+  double min_rcond = 1e-14;     // smaller reciprocal 1-norm condition estimates fail the fit
   kernels::LspiStopping stopping = kernels::LspiStopping::policy_unchanged;
   double weight_tolerance = 1e-5;    // epsilon of the "weights" rule
   bool evaluate_iterations = false;  // store and test every iteration's weights
   kernels::LinearAlgebra linear_algebra = kernels::LinearAlgebra::automatic;
+  // lambda as given ("absolute") or times the system's scale ("relative",
+  // kernels::RidgeScale says which scale).
+  kernels::RidgeScale ridge = kernels::RidgeScale::absolute;
 };
 
 struct OutputSettings {

@@ -152,6 +152,13 @@ std::optional<std::string> ResolvedConfig::difference(const ResolvedConfig& othe
       return a->first + ": only in " + std::string(this_label);
     }
     if (a == values_.end() || b->first < a->first) {
+      // A key that `other` holds at its default (not given) and `this` lacks is
+      // no difference: `this` was written before the key existed, and a new
+      // key's default is the behaviour from before it (lspi.ridge = "absolute").
+      if (!b->second.given) {
+        ++b;
+        continue;
+      }
       return b->first + ": only in " + std::string(other_label);
     }
     if (a->second.value != b->second.value) {

@@ -29,6 +29,7 @@ kernels::LspiOptions lspi_options(const SweepPoint& point) {
   kernels::LspiOptions options;
   options.gamma = lspi.gamma;
   options.ridge = point.lambda;
+  options.ridge_scale = lspi.ridge;
   options.max_iterations = lspi.max_iterations;
   options.solver = point.solver;
   options.solver_settings.min_rcond = lspi.min_rcond;

@@ -45,6 +45,8 @@ void write_report(int fd, const std::string& kind, const std::string& message) {
     kind = "usage", message = e.what(), status = 2;
   } catch (const RunFailure& e) {
     kind = "run", message = e.what(), status = 1;
+  } catch (const std::bad_alloc&) {  // a size in a file larger than memory: no bug of ggk's
+    kind = "memory", status = 2;
   } catch (const std::exception& e) {
     kind = "internal", message = e.what(), status = 1;
   } catch (...) {
@@ -188,6 +190,15 @@ int read_isolated(const std::vector<std::filesystem::path>& files, const std::fu
     std::signal(end.signal, SIG_DFL);
     std::raise(end.signal);
     std::_Exit(128 + end.signal);
+  }
+  if (end.error_kind == "memory") {
+    std::string names;
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      names += (i == 0 ? "" : i + 1 == files.size() ? " or " : ", ") + files[i].string();
+    }
+    throw UsageError("not enough memory to read " + names +
+                     ": it holds a size larger than this machine can allocate (a damaged file? "
+                     "`ggk verify FILE` names the object)");
   }
   if (end.error_kind == "usage") throw UsageError(end.message);
   if (end.error_kind == "run") throw RunFailure(end.message);

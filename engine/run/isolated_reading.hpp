@@ -35,7 +35,8 @@ struct ChildEnd {
   int exit_status = 0;  // when it exited
   int signal = 0;       // the signal that ended it, or 0
   // What `work` threw, if anything: "usage" (UsageError, JobError), "run"
-  // (RunFailure), "internal" (any other exception); empty when it returned.
+  // (RunFailure), "memory" (std::bad_alloc), "internal" (any other exception);
+  // empty when it returned.
   std::string error_kind;
   std::string message;  // the exception's text
   // False when the child ended without reporting (a crash, or a sanitizer that
@@ -76,12 +77,12 @@ class ReadingCrash : public UsageError {
 
 // Runs `work`, which reads `files`, in a child and returns its exit status. What
 // the work threw is thrown again here as the same kind (UsageError, RunFailure,
-// std::runtime_error). A crash calls `after_crash` with the child's pid (to
-// remove what the child left) and throws ReadingCrash naming the file that
-// crashes when read alone (each of several is read whole, as ggk verify does,
-// in a child of its own). A child ended by any other signal (Ctrl-C reaches the
-// whole process group; SIGPIPE from `ggk info | head`) ends this process by the
-// same signal.
+// std::runtime_error); std::bad_alloc (a size in a damaged or hostile file larger
+// than memory) as a UsageError "not enough memory to read <files>" (exit 2). A crash calls
+// `after_crash` with the child's pid (to remove what the child left) and throws ReadingCrash naming
+// the file that crashes when read alone (each of several is read whole, as ggk verify does, in a
+// child of its own). A child ended by any other signal (Ctrl-C reaches the whole process group;
+// SIGPIPE from `ggk info | head`) ends this process by the same signal.
 int read_isolated(const std::vector<std::filesystem::path>& files, const std::function<int()>& work,
                   const std::function<void(pid_t)>& after_crash = {});
 

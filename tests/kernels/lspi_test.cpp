@@ -297,6 +297,43 @@ TEST(Lspi, DenseAndSparseLinearAlgebraAgreeToRounding) {
   }
 }
 
+// RidgeScale::relative adds lambda times the mean absolute diagonal entry of the
+// evaluation's system: one evaluation with it equals one with that absolute ridge,
+// for both solvers and both kinds of linear algebra.
+TEST(Lspi, RelativeRidgeIsLambdaTimesTheMeanAbsoluteDiagonal) {
+  const SparseRowMatrix features = chain_features(30, 2);
+  const SampleBatch samples = random_chain_walk(30, 2000, 9);
+  for (const LspiSolver solver : {LspiSolver::brm, LspiSolver::lstdq}) {
+    for (const LinearAlgebra kind : {LinearAlgebra::sparse, LinearAlgebra::dense}) {
+      LspiOptions options;
+      options.solver = solver;
+      options.linear_algebra = kind;
+      options.max_iterations = 1;
+      options.ridge = 1e-9;  // A + 1e-9 I: the system's scale, read back
+      const LspiResult probe = fit_lspi(features, 2, samples, options);
+      ASSERT_TRUE(probe.ok()) << probe.message;
+      const Eigen::VectorXd diagonal = Eigen::MatrixXd(probe.a).diagonal().array() - 1e-9;
+      const double scale = diagonal.cwiseAbs().sum() / static_cast<double>(diagonal.size());
+      ASSERT_GT(scale, 1.0);  // so that lambda and lambda * scale differ
+
+      options.ridge = 1e-3;
+      options.ridge_scale = RidgeScale::relative;
+      const LspiResult relative = fit_lspi(features, 2, samples, options);
+      options.ridge = 1e-3 * scale;
+      options.ridge_scale = RidgeScale::absolute;
+      const LspiResult absolute = fit_lspi(features, 2, samples, options);
+      ASSERT_TRUE(relative.ok() && absolute.ok()) << relative.message << absolute.message;
+      EXPECT_LT((relative.weights - absolute.weights).norm(), 1e-9 * absolute.weights.norm())
+          << to_string(solver) << ", " << to_string(kind);
+      EXPECT_TRUE(relative.a.isApprox(absolute.a, 1e-12)) << to_string(solver);
+      options.ridge = 1e-3;
+      const LspiResult plain = fit_lspi(features, 2, samples, options);
+      EXPECT_GT((plain.weights - relative.weights).norm(), 1e-6 * plain.weights.norm())
+          << "the relative ridge made no difference: " << to_string(solver);
+    }
+  }
+}
+
 // automatic: dense Gaussian kernels give dense systems (LAPACK), BRM and LSTD-Q;
 // one indicator per state-action pair gives a sparse one (CHOLMOD).
 TEST(Lspi, AutomaticLinearAlgebraFollowsTheSystemsDensity) {

@@ -108,6 +108,7 @@ stopping = "weights"
 weight_tolerance = 1e-4
 evaluate_iterations = true
 linear_algebra = "sparse"
+ridge = "relative"
 
 [output]
 file = "%DIR%/out/full.h5"
@@ -147,6 +148,7 @@ TEST_F(JobFileTest, ReadsEveryKey) {
   EXPECT_EQ(job.lspi.weight_tolerance, 1e-4);
   EXPECT_TRUE(job.lspi.evaluate_iterations);
   EXPECT_EQ(job.lspi.linear_algebra, kernels::LinearAlgebra::sparse);
+  EXPECT_EQ(job.lspi.ridge, kernels::RidgeScale::relative);
   EXPECT_EQ(job.output.file, dir_ / "out" / "full.h5");
   EXPECT_EQ(job.output.compression, 0);
   EXPECT_TRUE(job.output.store_matrices);
@@ -191,6 +193,7 @@ file = "%DIR%/out/minimal.h5"
   EXPECT_EQ(job.lspi.weight_tolerance, 1e-5);
   EXPECT_FALSE(job.lspi.evaluate_iterations);
   EXPECT_EQ(job.lspi.linear_algebra, kernels::LinearAlgebra::automatic);
+  EXPECT_EQ(job.lspi.ridge, kernels::RidgeScale::absolute);
   EXPECT_EQ(job.output.compression, 4);
   EXPECT_FALSE(job.output.store_matrices);
 }
@@ -412,6 +415,9 @@ std::vector<MalformedJob> malformed_jobs() {
       {"stopping unknown",
        h + "[lspi]\nstopping = \"weight\"\n",
        {"bad.toml:11:1: [lspi] stopping:", "\"weight\"", "weights"}},
+      {"ridge unknown",
+       h + "[lspi]\nridge = \"scaled\"\n",
+       {"bad.toml:11:1: [lspi] ridge:", "\"scaled\"", "relative"}},
       {"linear_algebra unknown",
        h + "[lspi]\nlinear_algebra = \"lapack\"\n",
        {"bad.toml:11:1: [lspi] linear_algebra:", "\"lapack\"", "dense"}},

@@ -55,6 +55,25 @@ TEST(ResolvedConfig, ADifferenceIsNamed) {
   EXPECT_EQ(a.difference(b, "x", "y", {"maze.slip"}), std::nullopt);
 }
 
+// A file written before a key existed lacks it: the job at that key's default
+// (the old behaviour) is the same job, the job giving the key is not.
+TEST(ResolvedConfig, AKeyNewerThanTheFileMatchesOnlyAtItsDefault) {
+  const ResolvedConfig job = resolved_of(kHead + "sigma = [5]\n");
+  std::string text = job.text();
+  const std::size_t line = text.find("\"lspi.ridge\" = \"absolute\"\n");
+  ASSERT_NE(line, std::string::npos) << text;
+  text.erase(line, std::string("\"lspi.ridge\" = \"absolute\"\n").size());
+  const std::optional<ResolvedConfig> older = ResolvedConfig::from_text(text);
+  ASSERT_TRUE(older.has_value());
+  EXPECT_EQ(older->difference(job, "the file", "the job"), std::nullopt);
+  const ResolvedConfig relative =
+      resolved_of(kHead + "sigma = [5]\n[lspi]\nridge = \"relative\"\n");
+  EXPECT_EQ(older->difference(relative, "the file", "the job"), "lspi.ridge: only in the job");
+  const ResolvedConfig absolute =
+      resolved_of(kHead + "sigma = [5]\n[lspi]\nridge = \"absolute\"\n");
+  EXPECT_EQ(older->difference(absolute, "the file", "the job"), "lspi.ridge: only in the job");
+}
+
 TEST(ResolvedConfig, TextRoundTrips) {
   const ResolvedConfig a =
       resolved_of(kHead + "sigma = [5]\n[maze]\nmap = \"\"\"\n#G#\n#.#\n\"\"\"\n");

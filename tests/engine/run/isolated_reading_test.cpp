@@ -5,6 +5,7 @@
 
 #include <csignal>
 #include <cstdlib>
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -59,6 +60,21 @@ TEST(IsolatedReading, WhatTheWorkThrowsIsThrownAgainAsTheSameKind) {
 
 // SIGABRT and SIGILL reach the child as signals under the sanitizers too
 // (ASan handles SIGSEGV, SIGBUS and SIGFPE itself and exits with a report).
+// A file whose size claims exhaust memory (ggk diff on a zip bomb said "internal
+// error: std::bad_alloc"): a user error naming the files, not an internal one.
+TEST(IsolatedReading, AnAllocationFailureIsNotEnoughMemoryNamingTheFiles) {
+  try {
+    read_isolated({"a.h5", "b.h5"}, []() -> int { throw std::bad_alloc(); });
+    ADD_FAILURE() << "nothing thrown";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("not enough memory to read a.h5 or b.h5"),
+              std::string::npos)
+        << e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "not a UsageError: " << e.what();
+  }
+}
+
 TEST(IsolatedReading, ACrashIsAReadingCrashNamingTheFileAfterTheCleanUp) {
   for (const int signal : {SIGABRT, SIGILL}) {
     pid_t cleaned = 0;
