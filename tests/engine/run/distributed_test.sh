@@ -27,14 +27,34 @@ reference() { "$GGK" run "$1" -j 2 -q -o "$2" "${@:3}" 2>/dev/null; }
 # The first command a ggk message printed in backquotes after "with".
 printed_command() { grep -o 'with `[^`]*`' "$1" | head -n 1 | sed 's/^with `//; s/`$//'; }
 
-# The pid of the ggk process of rank $1 (empty when none).
-rank_pid() {
-  for pid in $(pgrep -x ggk || true); do
-    if tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -x "OMPI_COMM_WORLD_RANK=$1" >/dev/null; then
-      echo "$pid"
-    fi
+# Waits that depend on timing poll for their condition and are bounded in
+# wall-clock seconds ($SECONDS), not in a count of sleeps, and far beyond what an
+# idle machine needs, so that a loaded one (CI beside other work) passes too:
+# wait_until SECONDS COMMAND... is true once COMMAND is, false at the deadline.
+wait_until() {
+  local deadline=$((SECONDS + $1))
+  shift
+  until "$@"; do
+    [ "$SECONDS" -lt "$deadline" ] || return 1
+    sleep 0.1
   done
 }
+
+# The pid of the ggk process of rank $1 that this test started (empty when none):
+# its ranks inherit GGK_DISTRIBUTED_TEST from the launcher (on one host Open MPI
+# forks them from mpirun, environment and all), so another job's rank on a
+# shared machine is never taken for one, and an orphaned rank still is.
+export GGK_DISTRIBUTED_TEST=$scratch
+rank_pid() {
+  local pid matches
+  for pid in $(pgrep -x ggk || true); do
+    matches=$(tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null |
+      grep -c -x -e "OMPI_COMM_WORLD_RANK=$1" -e "GGK_DISTRIBUTED_TEST=$scratch" || true)
+    if [ "$matches" = 2 ]; then echo "$pid"; fi
+  done
+}
+no_rank_left() { [ -z "$(rank_pid 0)$(rank_pid 1)$(rank_pid 2)" ]; }
+file_larger_than() { [ "$(stat -c %s "$1" 2>/dev/null || echo 0)" -gt "$2" ]; }
 
 case $case_name in
 ranks)
@@ -103,17 +123,9 @@ kill)
   "${launcher[@]}" $(np 3) "$GGK" run "$job" -j 1 -q -o "$scratch/killed.h5" \
     >"$scratch/log" 2>&1 &
   launcher_pid=$!
-  victim=""
-  for _ in $(seq 100); do  # find rank 1 and kill it once a run has been written
-    sleep 0.1
-    for pid in $(pgrep -x ggk || true); do
-      if tr '\0' '\n' <"/proc/$pid/environ" 2>/dev/null | grep -x 'OMPI_COMM_WORLD_RANK=1' >/dev/null; then
-        victim=$pid
-      fi
-    done
-    [ -n "$victim" ] && [ "$(stat -c %s "$scratch/killed.h5" 2>/dev/null || echo 0)" -gt 200000 ] &&
-      break
-  done
+  # Kill rank 1 once a run has been written (bounded: 240 s).
+  wait_until 240 file_larger_than "$scratch/killed.h5" 200000 || fail "no run written in 240 s"
+  victim=$(rank_pid 1)
   [ -n "$victim" ] || fail "no rank 1 found"
   kill -9 "$victim"
   wait "$launcher_pid" || status=$?
@@ -141,8 +153,7 @@ interrupt)
     "${launcher[@]}" $(np 3) "$GGK" run "$job" -j 1 -q "${sets[@]}" -o "$out" >"$scratch/log" 2>&1 &
     launcher_pid=$!
     set +m
-    for _ in $(seq 600); do [ -e "$out" ] && break; sleep 0.1; done
-    [ -e "$out" ] || fail "$how: no run written"
+    wait_until 240 test -e "$out" || fail "$how: no run written in 240 s"
     signal=${how%%-*}
     if [ "${how#*-}" = mpirun ]; then
       kill -s "$signal" "$launcher_pid"
@@ -160,8 +171,8 @@ interrupt)
     command=$(printed_command "$scratch/log")
     grep -q "under mpirun as before" "$scratch/log" || fail "$how: no word of mpirun"
     # As a person would: the command is pasted once the ranks are gone (a rank
-    # still exiting holds the HDF5 file's lock; bounded wait, 10 s).
-    for _ in $(seq 100); do [ -z "$(rank_pid 0)$(rank_pid 1)$(rank_pid 2)" ] && break; sleep 0.1; done
+    # still exiting holds the HDF5 file's lock; bounded wait, 120 s).
+    wait_until 120 no_rank_left || fail "$how: ranks still running 120 s after the stop"
     bash -c "$command" 2>"$scratch/resume-err" ||
       { cat "$scratch/resume-err" "$scratch/log"; fail "$how: the printed command failed: $command"; }
     "$GGK" diff "$scratch/single.h5" "$out" >/dev/null || fail "$how: resumed results differ"

@@ -177,8 +177,10 @@ resume)
   set -m  # job control: SIGINT not ignored (as a background job of a script starts)
   "$GGK" run "$job" -j 1 "${sets[@]}" -o "$out" 2>"$scratch/err" & pid=$!
   set +m
-  for _ in $(seq 300); do [ -e "$out" ] && break; sleep 0.05; done
-  [ -e "$out" ] || fail "no run written"
+  # Bounded in wall-clock seconds, far beyond an idle machine's need (a loaded one).
+  deadline=$((SECONDS + 240))
+  until [ -e "$out" ] || [ "$SECONDS" -ge "$deadline" ]; do sleep 0.05; done
+  [ -e "$out" ] || fail "no run written in 240 s"
   kill -INT $pid
   s=0; wait $pid || s=$?
   [ "$s" = 130 ] || fail "SIGINT: status $s: $(cat "$scratch/err")"

@@ -119,14 +119,13 @@ print("ok")
 PY
 }
 
-retry() {  # command...: up to 60 tries 0.1 s apart (stdin: kept for each try)
-  local input
+retry() {  # command...: tries 0.1 s apart for up to 60 s of wall-clock time (stdin: kept for each try)
+  local input deadline=$((SECONDS + 60))
   input=$(cat)
-  for _ in $(seq 60); do
-    "$@" <<<"$input" >/dev/null 2>"$scratch/retry" && return 0
+  until "$@" <<<"$input" >/dev/null 2>"$scratch/retry"; do
+    [ "$SECONDS" -lt "$deadline" ] || return 1
     sleep 0.1
   done
-  return 1
 }
 
 case $case_name in
