@@ -203,9 +203,9 @@ void check_spelling(const CLI::App& app, int argc, char** argv) {
       // Hydra's habit: a bare KEY=VALUE after the job, where ggk takes --set / --sweep.
       if (takes_job && ++positionals > 1 && arg.find('=') != std::string::npos) {
         const std::string key = arg.substr(0, arg.find('='));
-        throw engine::UsageError(
-            "'" + arg + "': ggk takes no bare KEY=VALUE; write --set " + arg +
-            " to override " + key + ", or --sweep " + arg + " to make it a study axis");
+        throw engine::UsageError("'" + arg + "': ggk takes no bare KEY=VALUE; write --set " + arg +
+                                 " to override " + key + ", or --sweep " + arg +
+                                 " to make it a study axis");
       }
       continue;
     }

@@ -7,14 +7,14 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <optional>
-#include <set>
-#include <string>
 #include <limits>
 #include <memory>
+#include <optional>
+#include <set>
 #include <span>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 #include <system_error>
 #include <utility>
@@ -341,13 +341,15 @@ std::optional<toml::array> sweep_range(const std::string& values, const std::str
       values.find_first_of(",[\"'") != std::string::npos) {
     return std::nullopt;
   }
-  const std::string parts[3] = {values.substr(0, first), values.substr(first + 1, second - first - 1),
+  const std::string parts[3] = {values.substr(0, first),
+                                values.substr(first + 1, second - first - 1),
                                 values.substr(second + 1)};
   const auto is_integer = [](const std::string& t) {
     return !t.empty() && t.find_first_not_of("+-0123456789") == std::string::npos;
   };
-  const std::string usage = "a range is START:STOP:STEP with STEP > 0 and STOP >= START, "
-                            "e.g. --sweep kernels=4:16:4 (4, 8, 12, 16)";
+  const std::string usage =
+      "a range is START:STOP:STEP with STEP > 0 and STOP >= START, "
+      "e.g. --sweep kernels=4:16:4 (4, 8, 12, 16)";
   toml::array array;
   try {
     if (is_integer(parts[0]) && is_integer(parts[1]) && is_integer(parts[2])) {
