@@ -34,7 +34,7 @@ struct ObservationDimension {
 };
 
 // series, steps_per_series (ids of the observations: series x (steps + 1) fit
-// 32 bits), test_max_steps and test_episodes, with `defaults`' values as defaults.
+// 32 bits), test_max_steps and test_episodes, `protocol`'s values the defaults.
 void read_continuous_walks(const TomlTableReader& table, ContinuousProtocol& protocol);
 
 // [<task>.som] of `task_table`: sets protocol.som and som_grid_from_samples

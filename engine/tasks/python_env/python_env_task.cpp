@@ -97,8 +97,8 @@ py::object make_environment(const PythonEnvTask& task) {
   }
 }
 
-// A flat observation of `dimension` finite numbers (dimension 0: any length,
-// returned) written into `out`; throws EnvironmentError naming what is wrong.
+// The numbers of a flat, finite observation (`from` names the call that returned
+// it); throws EnvironmentError naming what is wrong.
 std::vector<double> observation_values(const py::handle& observation, std::string_view from) {
   if (py::hasattr(observation, "shape")) {
     const py::tuple shape = observation.attr("shape");
