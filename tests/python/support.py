@@ -64,3 +64,14 @@ series = 20
 steps_per_series = 150
 """)
     return path
+
+
+def ggk_module():
+    """The compiled module `ggk` (GGK_MODULE_DIR, set by ctest, or build/python of this
+    checkout); skips the calling test module when it was not built."""
+    folder = os.environ.get("GGK_MODULE_DIR", str(SOURCE / "build" / "python"))
+    if not any(Path(folder).glob("ggk*.so")):
+        raise unittest.SkipTest(f"no module ggk in {folder} (a build with GGK_WITH_PYTHON)")
+    sys.path.insert(0, folder)
+    import ggk
+    return ggk
