@@ -11,5 +11,6 @@ void bind_proto_value_functions(pybind11::module_& module);  // proto_value_func
 void bind_bases(pybind11::module_& module);                  // bases.cpp
 void bind_som(pybind11::module_& module);                    // som.cpp
 void bind_lspi(pybind11::module_& module);                   // lspi.cpp
+void bind_environments(pybind11::module_& module);           // environments.cpp
 
 }  // namespace ggk::python

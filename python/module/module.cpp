@@ -20,6 +20,7 @@ PVF:      graph_laplacian, proto_value_functions
 bases:    copy_basis, shift_basis, table_basis, Basis
 SOM:      train_som, som_grid, SelfOrganizingMap
 LSPI:     Samples, lspi, LspiFit
+Gymnasium-API environments: random_walks, greedy_episodes, RandomWalks
 
 Arrays in: numpy (C-contiguous float64 / int32 read in place), scipy.sparse for
 tables; out: numpy arrays and scipy.sparse.csr_matrix over the engine's own
@@ -36,4 +37,5 @@ engine's rule, kernels/blas_runtime.hpp), for numpy too when numpy shares it.)";
   ggk::python::bind_bases(module);
   ggk::python::bind_som(module);
   ggk::python::bind_lspi(module);
+  ggk::python::bind_environments(module);
 }

@@ -70,6 +70,8 @@ def ggk_module():
     """The compiled module `ggk` (GGK_MODULE_DIR, set by ctest, or build/python of this
     checkout); skips the calling test module when it was not built."""
     folder = os.environ.get("GGK_MODULE_DIR", str(SOURCE / "build" / "python"))
+    if not folder:  # ctest's build has no module (GGK_WITH_PYTHON=OFF)
+        raise unittest.SkipTest("ggk built without Python (GGK_WITH_PYTHON=OFF): no module ggk")
     if not any(Path(folder).glob("ggk*.so")):
         raise unittest.SkipTest(f"no module ggk in {folder} (a build with GGK_WITH_PYTHON)")
     sys.path.insert(0, folder)

@@ -6,6 +6,7 @@ LSPI (a numpy transcription of BRM and LSTD-Q); errors as Python exceptions with
 the engine's messages. test_module_engine.py checks fits against the engine's."""
 
 import unittest
+from pathlib import Path
 
 import numpy as np
 
@@ -285,6 +286,72 @@ class Lspi(unittest.TestCase):
         singular = ggk.lspi(self.samples, ggk.copy_basis(sp.csr_matrix((36, 6)), 4))
         self.assertEqual(singular.status, "solver_failed")
         self.assertTrue(singular.message)
+
+
+class Environments(unittest.TestCase):
+    def setUp(self):
+        import sys
+        sys.path.insert(0, str(support.SOURCE / "tests" / "python" / "envs"))
+        from ggk_test_envs import broken, mountain_car
+        self.broken, self.twin = broken, mountain_car.MountainCarTwin
+
+    def test_walks_index_their_observations_and_end_series_as_the_env_says(self):
+        walks = ggk.random_walks(self.twin(max_episode_steps=15), series=4, steps_per_series=10,
+                                 seed=3)
+        s = walks.samples
+        self.assertEqual(len(s), 40)  # 4 series of 10 steps (none ends before)
+        self.assertEqual(walks.observations.shape, (44, 2))
+        np.testing.assert_array_equal(s.next_states, s.states + 1)
+        np.testing.assert_array_equal(s.states[:11], list(range(10)) + [11])
+        truncated = ggk.random_walks(self.twin(max_episode_steps=5), series=3,
+                                     steps_per_series=10, seed=3)
+        self.assertEqual(len(truncated.samples), 15)  # truncated after 5 steps, not absorbing
+        self.assertFalse(truncated.samples.terminals.any())
+        again = ggk.random_walks(self.twin(max_episode_steps=15), series=4, steps_per_series=10,
+                                 seed=3)
+        np.testing.assert_array_equal(again.observations, walks.observations)
+        other = ggk.random_walks(self.twin(max_episode_steps=15), series=4, steps_per_series=10,
+                                 seed=3, run=1)
+        self.assertFalse(np.array_equal(other.observations, walks.observations))
+
+    def test_greedy_episodes_count_terminated_as_success(self):
+        test = ggk.greedy_episodes(self.twin(max_episode_steps=200), lambda o: 2 if o[1] >= 0
+                                   else 0, episodes=3, max_steps=200, seed=1)
+        self.assertEqual(set(test), {"returns", "lengths", "success"})
+        self.assertTrue(test["success"].all())  # pushing with the velocity climbs the hill
+        np.testing.assert_array_equal(test["returns"], -test["lengths"])
+        stuck = ggk.greedy_episodes(self.twin(max_episode_steps=30), lambda o: 1, episodes=2,
+                                    max_steps=200, seed=1)
+        self.assertFalse(stuck["success"].any())
+        np.testing.assert_array_equal(stuck["lengths"], [30, 30])
+
+    def test_environments_breaking_the_api_raise(self):
+        with self.assertRaisesRegex(TypeError, "action_space.n"):
+            ggk.random_walks(self.broken.BoxActions(), 1, 5, seed=0)
+        with self.assertRaisesRegex(ValueError, "series 0, step 3: the observation is not finite"):
+            ggk.random_walks(self.broken.NanAfter(step=4), 1, 10, seed=0)
+        with self.assertRaisesRegex(RuntimeError, "broken on purpose"):
+            ggk.random_walks(self.broken.RaisesAfter(step=2), 1, 10, seed=0)
+        with self.assertRaisesRegex(ValueError, "the policy chose 7"):
+            ggk.greedy_episodes(self.twin(), lambda o: 7, episodes=1, max_steps=5, seed=0)
+
+
+class ReadmeExample(unittest.TestCase):
+    def test_the_readmes_example_runs_and_prints_both_bases(self):
+        import re
+        import subprocess
+        import sys
+        text = (support.SOURCE / "README.md").read_text()
+        blocks = [b for b in re.findall(r"```python\n(.*?)```", text, re.S)
+                  if "ggk.random_walks" in b]
+        self.assertEqual(len(blocks), 1)
+        env = dict(__import__("os").environ, PYTHONPATH=str(Path(ggk.__file__).parent))
+        ran = subprocess.run([sys.executable, "-c", blocks[0]], cwd=support.SOURCE, env=env,
+                             capture_output=True, text=True, timeout=120)
+        self.assertEqual(ran.returncode, 0, ran.stderr)
+        lines = ran.stdout.splitlines()
+        self.assertEqual([line.split()[0] for line in lines], ["GGK", "OGK"])
+        self.assertIn("success", lines[0])
 
 
 if __name__ == "__main__":
