@@ -2,10 +2,14 @@
 // the project's Python twins (tests/python/envs/ggk_test_envs) compute the same
 // dynamics operation for operation, so every sample they make through ggk
 // replays bit for bit in sims/mountain_car and sims/pendulum; the task's series
-// end at `terminated` (absorbing) and at `truncated` (not absorbing).
+// end at `terminated` (absorbing) and at `truncated` (not absorbing). The chain
+// walk's twin draws its slips from its own generator: each of its transitions is
+// one the C++ chain makes, at the C++ chain's slip rate, and without slips the two
+// are one function.
 
 #if GGK_WITH_PYTHON
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
@@ -17,6 +21,7 @@
 #include "engine/job/job_file.hpp"
 #include "engine/run/job_runner.hpp"
 #include "engine/tasks/task_list.hpp"
+#include "sims/chain/chain.hpp"
 #include "sims/mountain_car/mountain_car.hpp"
 #include "sims/pendulum/pendulum.hpp"
 
@@ -79,6 +84,49 @@ TEST(PythonEnvTwins, PendulumWithoutNoiseReplaysInTheCppSimulatorBitForBit) {
     EXPECT_EQ(next.velocity, s.next_observations(i, 1)) << "sample " << i;
     EXPECT_EQ(s.terminals[k] != 0, sims::pendulum::fallen(next));
   }
+}
+
+// The chain twin's samples through the python_env task: sample i moves from state
+// s_i (its one-float observation) to Chain::move(s_i, a_i, intended) for one of
+// the two values of `intended`, with Chain::reward of the state entered, never
+// terminal; `intended` holds at the chain's success rate; with success = 1 every
+// sample is exactly the C++ chain's intended move.
+void check_chain_twin(double success) {
+  const std::string kwargs = "python_env.kwargs.success=" + std::to_string(success);
+  const auto record = ci_python_env_run(
+      {"python_env.factory=\"ggk_test_envs.chain:ChainTwin\"", "python_env.series=200", kwargs});
+  if (!record) GTEST_SKIP() << "GGK_SOURCE_DIR is not set (run through ctest)";
+  sims::chain::ChainConfig config;
+  config.success = success;
+  const sims::chain::Chain chain(config);
+  const auto& s = record->samples;
+  ASSERT_GT(s.observations.rows(), 1000);
+  std::int64_t slips = 0;
+  for (Eigen::Index i = 0; i < s.observations.rows(); ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const auto state = static_cast<std::int32_t>(s.observations(i, 0));
+    ASSERT_EQ(static_cast<double>(state), s.observations(i, 0));
+    const double next = s.next_observations(i, 0);
+    const bool intended = next == chain.move(state, s.actions[k], true);
+    const bool slipped = next == chain.move(state, s.actions[k], false);
+    ASSERT_TRUE(intended || slipped) << "sample " << i << ": " << state << " -> " << next;
+    if (!intended) ++slips;
+    EXPECT_EQ(s.rewards[k], chain.reward(static_cast<std::int32_t>(next)));
+    EXPECT_EQ(s.terminals[k], 0);
+  }
+  const double n = static_cast<double>(s.observations.rows());
+  const double rate = (1.0 - success);
+  // Within 5 binomial standard deviations (and none at all without slips).
+  EXPECT_NEAR(static_cast<double>(slips) / n, rate,
+              5.0 * std::sqrt(rate * (1.0 - rate) / n) + 1e-12);
+}
+
+TEST(PythonEnvTwins, ChainWalkTransitionsAreTheCppChainsAtItsSlipRate) {
+  check_chain_twin(0.9);
+}
+
+TEST(PythonEnvTwins, ChainWalkWithoutSlipsIsTheCppChain) {
+  check_chain_twin(1.0);
 }
 
 }  // namespace
