@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <vector>
 
 #include "engine/hdf5/hdf5_file.hpp"
@@ -45,6 +46,21 @@ std::string child(const std::string& group, const std::string& name) {
 }
 
 // A short, readable form of an attribute for notes (strings and numbers).
+// Two provenance strings that differ, each cut to the window around their first
+// difference (a BLAS's name differs in its kernel set, past the first 40 characters).
+std::pair<std::string, std::string> shown_difference(const std::string& a, const std::string& b) {
+  constexpr std::size_t kBefore = 12, kWidth = 60;
+  std::size_t first = 0;
+  while (first < a.size() && first < b.size() && a[first] == b[first]) ++first;
+  const std::size_t from = first > kBefore ? first - kBefore : 0;
+  const auto cut = [&](const std::string& text) {
+    std::string window = text.substr(std::min(from, text.size()), kWidth);
+    return "\"" + std::string(from > 0 ? "..." : "") + window +
+           (from + kWidth < text.size() ? "..." : "") + "\"";
+  };
+  return {cut(a), cut(b)};
+}
+
 std::string shown(const Hdf5File::Values& v) {
   if (!v.strings.empty()) {
     std::string text = v.strings.front();
@@ -162,8 +178,24 @@ class Comparison {
             const auto value = [&](const Hdf5File& f, bool present) {
               return present ? shown(f.read_attribute_values(path, name)) : std::string("(none)");
             };
-            const std::string va = value(a_, in_a), vb = value(b_, in_b);
-            if (va != vb) notes_.push_back(name + ": " + va + " vs " + vb);
+            std::string va = value(a_, in_a), vb = value(b_, in_b);
+            if (va == vb) return;
+            if (in_a && in_b) {
+              const Hdf5File::Values a_values = a_.read_attribute_values(path, name);
+              const Hdf5File::Values b_values = b_.read_attribute_values(path, name);
+              if (!a_values.strings.empty() && !b_values.strings.empty()) {
+                std::tie(va, vb) =
+                    shown_difference(a_values.strings.front(), b_values.strings.front());
+              }
+            }
+            notes_.push_back(name + ": " + va + " vs " + vb);
+            if (name == "blas") {
+              notes_.push_back(
+                  "the files were computed with different BLAS kernels: results are "
+                  "bit-identical for one BLAS kernel set (OpenBLAS picks it by the CPU, or "
+                  "OPENBLAS_CORETYPE); another moves weights in their last digits (README, "
+                  "\"Same bits\")");
+            }
             return;
           }
           ++attributes_;

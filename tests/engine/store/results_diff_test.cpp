@@ -182,6 +182,22 @@ TEST_F(ResultsDiffTest, ProvenanceIsANoteNotADifference) {
   EXPECT_TRUE(contains(printed, "\"0.0.0-elsewhere\""));
 }
 
+TEST_F(ResultsDiffTest, ADifferentBlasIsNamedByItsKernelSetAndExplained) {
+  const std::string prefix = "OpenBLAS 0.3.21 NO_LAPACKE DYNAMIC_ARCH NO_AFFINITY ";
+  for (const auto& [file, core] : {std::pair{"a.h5", "Zen"}, std::pair{"b.h5", "SandyBridge"}}) {
+    Hdf5File f = Hdf5File::open_read_write(dir_ / file);
+    if (f.has_attribute("/", "blas")) f.remove_attribute("/", "blas");
+    f.write_string_attribute("/", "blas", prefix + core + " MAX_THREADS=64 (pthread build)");
+    f.flush();
+  }
+  const auto [same, printed] = diff();
+  EXPECT_TRUE(same) << printed;
+  // The kernel sets themselves, not a cut at the shared prefix.
+  EXPECT_TRUE(contains(printed, "Zen MAX_THREADS")) << printed;
+  EXPECT_TRUE(contains(printed, "SandyBridge MAX_THREADS")) << printed;
+  EXPECT_TRUE(contains(printed, "bit-identical for one BLAS kernel set")) << printed;
+}
+
 TEST_F(ResultsDiffTest, AFileThatIsNoResultsFileIsAUsageError) {
   {
     Hdf5File other = Hdf5File::create(dir_ / "other.h5");
