@@ -193,8 +193,8 @@ class Comparison {
               notes_.push_back(
                   "the files were computed with different BLAS kernels: results are "
                   "bit-identical for one BLAS kernel set (OpenBLAS picks it by the CPU, or "
-                  "OPENBLAS_CORETYPE); another moves weights in their last digits (README, "
-                  "\"Same bits\")");
+                  "OPENBLAS_CORETYPE); another can move weights, most in ill-conditioned fits "
+                  "(README, \"Same bits\")");
             }
             return;
           }
