@@ -5,6 +5,7 @@
 #include <toml++/toml.h>
 
 #include "engine/job/job_error.hpp"
+#include "engine/job/resolved_config.hpp"
 
 namespace ggk::engine {
 
@@ -12,16 +13,25 @@ namespace {
 
 constexpr std::size_t kShownValue = 60;  // characters of a value shown in a message
 
-std::string shown(const toml::node& node) {
-  std::ostringstream out;
-  if (node.is_table()) {
-    out << "a table";
-  } else if (const auto* array = node.as_array()) {
-    out << *array;
-  } else {
-    node.visit([&out](const auto& value) { out << value; });
+// A value as a person wrote it: numbers in their shortest exact form (0.2, where
+// toml++ prints 0.20000000000000001), arrays element by element.
+std::string value_text(const toml::node& node) {
+  if (node.is_table()) return "a table";
+  if (const auto* array = node.as_array()) {
+    std::string text = "[";
+    for (const toml::node& element : *array) {
+      text += (text.size() > 1 ? ", " : "") + value_text(element);
+    }
+    return text + "]";
   }
-  std::string text = out.str();
+  if (const auto* number = node.as_floating_point()) return canonical_number(number->get());
+  std::ostringstream out;
+  node.visit([&out](const auto& value) { out << value; });
+  return out.str();
+}
+
+std::string shown(const toml::node& node) {
+  std::string text = value_text(node);
   if (text.size() > kShownValue) text = text.substr(0, kShownValue) + "...";
   return text;
 }

@@ -136,6 +136,11 @@ std::optional<std::string> ResolvedConfig::difference(const ResolvedConfig& othe
   const auto shown = [](const std::string& value) {
     return value.size() > kShown ? value.substr(0, kShown) + "..." : value;
   };
+  // A key as a person knows it: the internal "study.axes" is the study's axes.
+  const auto named = [](const std::string& key) {
+    return key == "study.axes" ? std::string("the study's axes ([sweep] keys and --sweep options)")
+                               : key;
+  };
   // Walk both sorted maps together: the first key (in sorted order) that differs.
   auto a = values_.begin();
   auto b = other.values_.begin();
@@ -149,7 +154,7 @@ std::optional<std::string> ResolvedConfig::difference(const ResolvedConfig& othe
       continue;
     }
     if (b == other.values_.end() || (a != values_.end() && a->first < b->first)) {
-      return a->first + ": only in " + std::string(this_label);
+      return named(a->first) + ": only in " + std::string(this_label);
     }
     if (a == values_.end() || b->first < a->first) {
       // A key that `other` holds at its default (not given) and `this` lacks is
@@ -159,11 +164,11 @@ std::optional<std::string> ResolvedConfig::difference(const ResolvedConfig& othe
         ++b;
         continue;
       }
-      return b->first + ": only in " + std::string(other_label);
+      return named(b->first) + ": only in " + std::string(other_label);
     }
     if (a->second.value != b->second.value) {
-      return a->first + ": " + shown(a->second.value) + " in " + std::string(this_label) + ", " +
-             shown(b->second.value) + " in " + std::string(other_label);
+      return named(a->first) + ": " + shown(a->second.value) + " in " + std::string(this_label) +
+             ", " + shown(b->second.value) + " in " + std::string(other_label);
     }
     ++a;
     ++b;

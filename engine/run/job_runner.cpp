@@ -118,6 +118,7 @@ RunSummary run_study(const Study& study, const RunOptions& options) {
   check_study_memory(study, options);  // before the output is created or touched
   OpenedResults opened = open_results(study, options);
   print_notes(opened.notes);
+  if (!options.quiet) print_notes(opened.info);
   RunSummary summary;
   summary.output = opened.target.output();
   summary.runs_skipped = opened.skipped;

@@ -28,6 +28,7 @@
 #include "engine/run/job_writer.hpp"
 #include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
+#include "engine/run/process_alive.hpp"
 #include "engine/run/stop_signals.hpp"
 #include "engine/store/run_store.hpp"
 #include "engine/tasks/task_list.hpp"
@@ -59,6 +60,10 @@ constexpr auto kHeartbeatPeriod = std::chrono::milliseconds(250);
 // odls_base_sigkill_timeout).
 constexpr auto kStopPoll = std::chrono::milliseconds(10);
 constexpr auto kStopReportWait = std::chrono::milliseconds(600);
+// How much longer rank 0 waits for a worker of its own host that has not
+// reported but whose process still runs (process_alive): one slow to notice its
+// signal on a loaded machine, not a dead one.
+constexpr auto kSlowWorkerWait = std::chrono::seconds(10);
 // How long a stopped worker waits for rank 0 to report before it exits (under
 // mpirun, its SIGKILL comes first).
 constexpr auto kStopAckWait = std::chrono::milliseconds(2000);
@@ -193,7 +198,9 @@ Outcome check_same_job(const JobSpec& job, int rank) {
 
 int work(const Study& study) {
   const StopSignals stop_signals(StopSignals::Mode::kRecord);
-  MPI_Send(nullptr, 0, MPI_BYTE, 0, kReady, MPI_COMM_WORLD);
+  // The first request names the worker's process: its pid and host.
+  const std::string hello = std::to_string(getpid()) + " " + processor_name();
+  MPI_Send(hello.data(), static_cast<int>(hello.size()), MPI_CHAR, 0, kReady, MPI_COMM_WORLD);
   for (;;) {
     MPI_Status status;
     std::int64_t run = -1;
@@ -333,6 +340,12 @@ class Coordinator {
   std::map<int, Held> held_;  // worker rank -> its run
   std::set<int> active_;      // workers not yet told to stop, failed or stopped by a signal
   std::set<int> stopped_;     // workers that reported a stop signal
+  struct Process {
+    pid_t pid = 0;
+    std::string host;
+  };
+  std::map<int, Process> processes_;  // worker rank -> its process (its first message)
+  const std::string host_ = processor_name();
   int stop_signal_ = 0;
   bool stop_reported_ = false;  // the stop's report is printed; the job stops
   Clock::time_point stop_deadline_;
@@ -380,9 +393,16 @@ void Coordinator::receive(const MPI_Status& status) {
     case kHeartbeat:
       held_[rank].last_heard = Clock::now();
       return;
-    case kReady:
+    case kReady: {
+      const std::string hello(reinterpret_cast<const char*>(bytes->data()), bytes->size());
+      const std::string::size_type space = hello.find(' ');
+      if (space != std::string::npos) {
+        processes_[rank] = {static_cast<pid_t>(std::stol(hello.substr(0, space))),
+                            hello.substr(space + 1)};
+      }
       assign_or_stop(rank);
       return;
+    }
     case kResult: {
       ResultHeader header;
       if (bytes->size() < sizeof header) throw std::runtime_error("short result message");
@@ -462,7 +482,9 @@ void Coordinator::release_stopped_workers() {
 // (briefly) until every worker still computing has reported its own signal:
 // then the job was interrupted (a Ctrl-C, a scheduler), exit 128 + signal. A
 // worker silent past the wait died before the signal (mpirun stops the others
-// when one dies): it is named with its run, exit 1. When nothing is lost (every
+// when one dies): it is named with its run, exit 1; unless it runs on this host
+// and its process is still alive (process_alive): then it is slow, not dead, and
+// rank 0 waits for its report up to kSlowWorkerWait longer. When nothing is lost (every
 // run written or queued) at the signal, the job ends normally instead.
 void Coordinator::stop_for_signal() {
   if (!stop_reported_) {
@@ -471,8 +493,24 @@ void Coordinator::stop_for_signal() {
                 (stop_signal_ == SIGTERM ? " (mpirun's, on a Ctrl-C, or a scheduler's)" : ""));
   }
   if (!active_.empty() && Clock::now() < stop_deadline_) return;
-  std::string dead;
+  // A worker of this host whose process still runs has not died: it is slow to
+  // see its signal (a loaded machine). Wait for it, up to kSlowWorkerWait (under
+  // mpirun's own stop, mpirun's SIGKILL ends the wait sooner; nothing is lost).
+  std::set<int> unknown;  // silent, and not known to run: died (or on another host)
+  bool slow_alive = false;
   for (const int rank : active_) {
+    const auto process = processes_.find(rank);
+    const bool alive = process != processes_.end() && process->second.host == host_ &&
+                       process_alive(process->second.pid);
+    if (alive) {
+      slow_alive = true;
+    } else {
+      unknown.insert(rank);
+    }
+  }
+  if (slow_alive && Clock::now() < stop_deadline_ + kSlowWorkerWait) return;
+  std::string dead;
+  for (const int rank : unknown) {
     const auto held = held_.find(rank);
     dead += (dead.empty() ? "" : ", ") + std::string("rank ") + std::to_string(rank) +
             (held != held_.end() && held->second.run >= 0
@@ -597,6 +635,8 @@ int run_job_over_mpi(const MpiSession& session, const std::filesystem::path& job
     const Outcome outcome = attempt([&] {
       check_study_memory(*study, options.run);  // before the output is created or touched
       opened.emplace(open_results(*study, options.run));
+      print_notes(opened->notes);  // as run_study does: a salvaged file, a grown one
+      if (!options.run.quiet) print_notes(opened->info);
     });
     if (const int status = agree(outcome, rank, size)) return status;
   } else if (const int status = agree({}, rank, size)) {

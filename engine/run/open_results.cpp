@@ -40,6 +40,20 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// A configuration's study_values ("key = value" lines) on one line of a message:
+// "maze.slip = 0.1, maze.series = 40" (cut when a damaged file holds a long text).
+std::string values_on_one_line(const std::string& values) {
+  std::string text;
+  std::string::size_type from = 0;
+  while (from < values.size()) {
+    std::string::size_type end = values.find('\n', from);
+    if (end == std::string::npos) end = values.size();
+    if (end > from) text += (text.empty() ? "" : ", ") + values.substr(from, end - from);
+    from = end + 1;
+  }
+  return one_line(text);
+}
+
 void check_output_directory(const fs::path& output) {
   const fs::path dir = output.parent_path().empty() ? fs::path(".") : output.parent_path();
   std::error_code ec;
@@ -182,6 +196,14 @@ bool check_same_job(const Hdf5File& file, const Study& study, const fs::path& ou
                      "; write to another -o, or start it again with --overwrite (deleting its "
                      "complete runs)");
   }
+  // The root's task names the group the runs are in (and what info, merge and diff
+  // read): a file of another task (or a damaged name) is no file to resume.
+  if (header.task != job.task) {
+    throw UsageError("cannot resume " + output.string() + ": it holds " +
+                     one_line(header.task, 60) + " results, not " + job.task +
+                     " results; choose another output with -o, or --overwrite to replace it "
+                     "(deleting what it holds)");
+  }
   // Compared by meaning where the file records its resolved configuration (30
   // and 30.0, a key at its default and the key left out read alike); as TOML
   // where an older ggk wrote it. Where the results go is no part of them.
@@ -297,7 +319,8 @@ void align_configurations(Hdf5File& file, const Study& study, const fs::path& ou
     if (configuration == by_values.end()) {
       throw UsageError("cannot resume " + output.string() + ": its group " + group +
                        " holds the run configuration " +
-                       (values.empty() ? std::string("(no study_values)") : "{" + values + "}") +
+                       (values.empty() ? std::string("(no study_values)")
+                                       : "{" + values_on_one_line(values) + "}") +
                        ", which this job does not have; resume with the job that has it, or "
                        "write to another -o");
     }
@@ -336,7 +359,8 @@ void align_configurations(Hdf5File& file, const Study& study, const fs::path& ou
 ResultsHeader new_header(const Study& study, const RunOptions& options);
 
 Hdf5File resume(const Study& study, const RunOptions& options, const fs::path& output,
-                std::vector<std::vector<std::int32_t>>& complete, std::vector<std::string>& notes) {
+                std::vector<std::vector<std::int32_t>>& complete, std::vector<std::string>& notes,
+                std::vector<std::string>& info) {
   Hdf5File file = open_for_resume(output, notes);
   const bool grown = check_same_job(file, study, output);
   align_configurations(file, study, output);
@@ -345,13 +369,13 @@ Hdf5File resume(const Study& study, const RunOptions& options, const fs::path& o
     rewrite_job_attributes(file, new_header(study, options));
     file.flush();
     const std::size_t configurations = study.configurations.size();
-    notes.push_back("growing " + output.string() + " to the job's " +
-                    std::to_string(study.job().runs) + " runs" +
-                    (configurations > 1
-                         ? " x " + std::to_string(configurations) + " run configurations"
-                         : std::string()) +
-                    " x " + std::to_string(expand_points(study.configurations.front()).size()) +
-                    " sweep points: its complete runs are kept");
+    info.push_back("growing " + output.string() + " to the job's " +
+                   std::to_string(study.job().runs) + " runs" +
+                   (configurations > 1
+                        ? " x " + std::to_string(configurations) + " run configurations"
+                        : std::string()) +
+                   " x " + std::to_string(expand_points(study.configurations.front()).size()) +
+                   " sweep points: its complete runs are kept");
   }
   for (const RunConfiguration& configuration : study.configurations) {
     const JobSpec& job = configuration.job;
@@ -534,7 +558,7 @@ OpenedResults open_results(const Study& study, const RunOptions& options) {
   state = output_state(output);
 
   std::vector<std::vector<std::int32_t>> complete;  // per configuration
-  std::vector<std::string> notes;
+  std::vector<std::string> notes, info;
   std::optional<ResultsTarget> target;
   std::optional<Hdf5File> file;
   std::optional<std::string> damage;  // why the file cannot be resumed in place
@@ -551,7 +575,7 @@ OpenedResults open_results(const Study& study, const RunOptions& options) {
   }
   if (state == OutputState::kFile && options.resume && !crashes) {
     try {
-      file.emplace(resume(study, options, output, complete, notes));
+      file.emplace(resume(study, options, output, complete, notes, info));
     } catch (const UsageError&) {
       throw;
     } catch (const std::runtime_error& e) {
@@ -579,7 +603,8 @@ OpenedResults open_results(const Study& study, const RunOptions& options) {
     target.emplace(output, temporary, std::move(lock));  // removes the .part on failure
     file.emplace(create_new(study, options, temporary));
   }
-  OpenedResults opened{std::move(*target), std::move(*file), {}, 0, std::move(notes)};
+  OpenedResults opened{std::move(*target), std::move(*file), {}, 0,
+                       std::move(notes),   std::move(info)};
   opened.file.set_gzip_level(job.output.compression);
   const std::int32_t first = options.runs ? options.runs->first : 0;
   const std::int32_t last = options.runs ? options.runs->last : job.runs;
@@ -611,7 +636,7 @@ OpenedResults open_results(const Study& study, const RunOptions& options) {
     }
   }
   if (extended > 0) {
-    opened.notes.push_back(
+    opened.info.push_back(
         "growing " + std::to_string(extended) + " complete runs of " + output.string() + " by " +
         std::to_string(new_fits) +
         " fits of the job's new values: only these are fitted (each run's samples and graph "

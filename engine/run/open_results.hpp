@@ -77,7 +77,8 @@ struct OpenedResults {
   // Runs still to compute, configuration by configuration, each ascending.
   std::vector<WorkUnit> pending;
   std::int32_t skipped = 0;        // runs of the selection already complete
-  std::vector<std::string> notes;  // what the caller should tell the user
+  std::vector<std::string> notes;  // what the caller must tell the user (damage, salvage)
+  std::vector<std::string> info;   // what it tells unless quiet (-q): a grown file
 };
 
 // A study's file (a plain job: study_of(job)): its configurations' groups, and

@@ -297,7 +297,8 @@ bool diff_results(const std::filesystem::path& a, const std::filesystem::path& b
   const Hdf5File file_a = open_results_file(a, task_a);
   const Hdf5File file_b = open_results_file(b, task_b);
   if (task_a != task_b) {
-    throw UsageError(a.string() + " holds " + task_a + " results and " + b.string() + " " + task_b +
+    throw UsageError(a.string() + " holds " + one_line(task_a, 60) + " results and " + b.string() +
+                     " " + one_line(task_b, 60) +
                      " results: ggk diff compares two files of one task");
   }
   Comparison comparison(file_a, file_b, options, out);

@@ -53,6 +53,13 @@ TEST(ResolvedConfig, ADifferenceIsNamed) {
   const ResolvedConfig b = resolved_of(kHead + "sigma = [5]\n[maze]\nslip = 0.2\n");
   EXPECT_EQ(a.difference(b, "the file", "the job"), "maze.slip: 0.1 in the file, 0.2 in the job");
   EXPECT_EQ(a.difference(b, "x", "y", {"maze.slip"}), std::nullopt);
+  // The internal key of a study's axes is named as a person knows it (issue 37).
+  ResolvedConfig study_a = a, study_b = a;
+  study_a.record("study.axes", "[\"maze.slip\"]", true);
+  study_b.record("study.axes", "[\"maze.series\"]", true);
+  const auto axes = study_a.difference(study_b, "the file", "the job");
+  ASSERT_TRUE(axes);
+  EXPECT_EQ(axes->rfind("the study's axes ([sweep] keys and --sweep options): ", 0), 0u) << *axes;
 }
 
 // A file written before a key existed lacks it: the job at that key's default

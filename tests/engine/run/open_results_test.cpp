@@ -156,6 +156,35 @@ TEST_F(JobRunnerTest, ResumeRefusesTheResultsOfAnotherJob) {
   EXPECT_EQ(summary.runs_skipped, 3);
 }
 
+// Issue 37, F8: a root `task` that is not the job's (here an 8 MB name) is
+// refused, with the name cut, and the file left as it was; before, --resume
+// exited 0 and `ggk info` kept advising --resume.
+TEST_F(JobRunnerTest, ResumeRefusesAFileOfAnotherTaskNamingItShortly) {
+  const std::string text = determinism_job(dir_ / "out.h5");
+  const JobSpec job = load_job("job.toml", text);
+  run_job(job, options_for(job.output.file));
+  {
+    Hdf5File file = Hdf5File::open_read_write(job.output.file);
+    file.remove_attribute("/", "task");
+    file.write_string_attribute("/", "task", std::string(8'000'000, 'x'));
+    file.flush();
+  }
+  const std::string bytes = file_bytes(job.output.file);
+  RunOptions resume = options_for(job.output.file);
+  resume.resume = true;
+  try {
+    run_job(job, resume);
+    FAIL() << "expected a UsageError";
+  } catch (const UsageError& error) {
+    const std::string message = error.what();
+    EXPECT_LT(message.size(), 600u);
+    EXPECT_NE(message.find("(8000000 bytes) results, not " + job.task + " results"),
+              std::string::npos)
+        << message;
+  }
+  EXPECT_EQ(file_bytes(job.output.file), bytes) << "a refused resume must not change the file";
+}
+
 TEST_F(JobRunnerTest, ResumeComparesTheJobsMeaning) {
   // sigma = [3] and [3.0], a key at its default written out, comments and key
   // order: the same job, so the file resumes (issue 20: resumes that never mislead).

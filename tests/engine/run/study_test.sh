@@ -201,11 +201,13 @@ grow)
   "$GGK" run "$job" --set runs=3 --sweep maze.slip=0.0,0.1,0.2 -o "$scratch/grow.h5" --resume \
     2>"$scratch/err" || fail "grow: $(cat "$scratch/err")"
   grep -q "5 runs computed, 4 already complete" "$scratch/err" || fail "grow computed: $(cat "$scratch/err")"
+  grep -q "growing $scratch/grow.h5" "$scratch/err" || fail "grow said nothing: $(cat "$scratch/err")"
   "$GGK" run "$job" -q --set runs=3 --sweep maze.slip=0.0,0.1,0.2 -o "$scratch/whole.h5" 2>/dev/null
   "$GGK" diff "$scratch/whole.h5" "$scratch/grow.h5" || fail "the grown study differs from the whole"
   # A plain job grows by runs.
   "$GGK" run "$job" -q --set runs=1 -o "$scratch/plain.h5" 2>/dev/null
-  "$GGK" run "$job" -q --set runs=3 -o "$scratch/plain.h5" --resume 2>/dev/null
+  "$GGK" run "$job" -q --set runs=3 -o "$scratch/plain.h5" --resume 2>"$scratch/err"
+  [ ! -s "$scratch/err" ] || fail "-q printed: $(cat "$scratch/err")"  # issue 37: no "growing"
   "$GGK" run "$job" -q --set runs=3 -o "$scratch/plain3.h5" 2>/dev/null
   "$GGK" diff "$scratch/plain3.h5" "$scratch/plain.h5" >/dev/null || fail "the grown job differs"
   # Fewer runs or values would drop results: refused, naming them.

@@ -198,6 +198,24 @@ TEST_F(ResultsDiffTest, ADifferentBlasIsNamedByItsKernelSetAndExplained) {
   EXPECT_TRUE(contains(printed, "bit-identical for one BLAS kernel set")) << printed;
 }
 
+// Issue 37, F8: a hostile task name is cut in the refusal (it was printed whole).
+TEST_F(ResultsDiffTest, FilesOfTwoTasksAreRefusedWithTheNamesCut) {
+  {
+    Hdf5File b = Hdf5File::open_read_write(dir_ / "b.h5");
+    b.remove_attribute("/", "task");
+    b.write_string_attribute("/", "task", std::string(8'000'000, 'x'));
+    b.flush();
+  }
+  std::ostringstream out;
+  try {
+    diff_results(dir_ / "a.h5", dir_ / "b.h5", out);
+    FAIL() << "expected a UsageError";
+  } catch (const UsageError& error) {
+    EXPECT_LT(std::string(error.what()).size(), 600u);
+    EXPECT_TRUE(contains(error.what(), "(8000000 bytes) results"));
+  }
+}
+
 TEST_F(ResultsDiffTest, AFileThatIsNoResultsFileIsAUsageError) {
   {
     Hdf5File other = Hdf5File::create(dir_ / "other.h5");
