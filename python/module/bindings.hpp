@@ -12,5 +12,6 @@ void bind_bases(pybind11::module_& module);                  // bases.cpp
 void bind_som(pybind11::module_& module);                    // som.cpp
 void bind_lspi(pybind11::module_& module);                   // lspi.cpp
 void bind_environments(pybind11::module_& module);           // environments.cpp
+void bind_sequential(pybind11::module_& module);             // sequential.cpp
 
 }  // namespace ggk::python

@@ -21,6 +21,7 @@ bases:    copy_basis, shift_basis, table_basis, Basis
 SOM:      train_som, som_grid, SelfOrganizingMap
 LSPI:     Samples, lspi, LspiFit
 Gymnasium-API environments: random_walks, greedy_episodes, RandomWalks
+adaptive studies: confidence_sequence
 
 Arrays in: numpy (C-contiguous float64 / int32 read in place), scipy.sparse for
 tables; out: numpy arrays and scipy.sparse.csr_matrix over the engine's own
@@ -38,4 +39,5 @@ engine's rule, kernels/blas_runtime.hpp), for numpy too when numpy shares it.)";
   ggk::python::bind_som(module);
   ggk::python::bind_lspi(module);
   ggk::python::bind_environments(module);
+  ggk::python::bind_sequential(module);
 }
