@@ -32,9 +32,12 @@
 // Not determined by the graph: when lambda_count and lambda_(count+1) are tied
 // (within kEigenvalueTieTolerance), the eigenspace is cut and which of its
 // vectors are taken is the solver's choice (the tie rule's, across components):
-// `degenerate` says so, and `next_value` holds lambda_(count+1) (found by one more
-// eigenpair of the component that holds it, a solve of its own when that
-// component's candidates end at count: the vectors taken are not changed by it).
+// `degenerate` says so, and `next_value` holds lambda_(count+1). For it, a
+// component of more than count nodes adds its (count+1)-th eigenvalue to the
+// candidates, value only: the dense path has it; a Lanczos component is solved a
+// second time for count + 1 pairs, of which only that value is used (Lanczos
+// vectors of count + 1 pairs are not bit for bit those of count, so the vectors
+// taken stay those of the solve for count: a connected graph's are as before).
 //
 // Normalisation and sign: every vector has unit Euclidean norm, and its
 // largest-magnitude entry is positive (ties, within a relative 1e-9, to the lowest
