@@ -50,6 +50,7 @@ int run_command(const std::string& job_path, const engine::RunOptions& options,
                 const engine::JobLoadOptions& load) {
   const engine::Study study = engine::load_study(job_path, engine::task_tables(), load);
   const engine::RunSummary summary = engine::run_study(study, options);
+  engine::print_fit_warnings(summary);
   if (!options.quiet) engine::print_run_summary(study.job(), summary);
   return 0;
 }

@@ -13,6 +13,7 @@
 #include <tbb/parallel_for.h>
 
 #include "engine/job/sweep.hpp"
+#include "engine/run/fit_warnings.hpp"
 #include "engine/run/job_writer.hpp"
 #include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
@@ -100,6 +101,12 @@ void print_notes(const std::vector<std::string>& notes) {
   for (const std::string& note : notes) std::fprintf(stderr, "ggk: %s\n", note.c_str());
 }
 
+void print_fit_warnings(const RunSummary& summary) {
+  for (const std::string& line : summary.warnings) {
+    std::fprintf(stderr, "ggk: warning: %s\n", line.c_str());
+  }
+}
+
 void print_run_summary(const JobSpec& job, const RunSummary& s) {
   std::fprintf(stderr,
                "ggk: %s: %d runs computed, %d already complete, %lld fits (%lld failed) in "
@@ -125,6 +132,7 @@ RunSummary run_study(const Study& study, const RunOptions& options) {
   const std::vector<WorkUnit> pending = std::move(opened.pending);
 
   std::atomic<std::int64_t> failed_fits{0}, fits{0};
+  FitWarnings warnings;
   JobWriter writer(study, options, std::move(opened), static_cast<std::int32_t>(pending.size()),
                    StopSignals::Mode::kStopInHandler);
   try {
@@ -134,6 +142,7 @@ RunSummary run_study(const Study& study, const RunOptions& options) {
           auto record = std::make_shared<const RunRecord>(compute_unit(study, pending[i]));
           failed_fits.fetch_add(failed_fits_of(*record));
           fits.fetch_add(static_cast<std::int64_t>(record->fits.size()));
+          warnings.add(*record);
           writer.commit(std::move(record));
         },
         tbb::simple_partitioner());
@@ -156,6 +165,7 @@ RunSummary run_study(const Study& study, const RunOptions& options) {
   summary.runs_computed = static_cast<std::int32_t>(pending.size());
   summary.fits = fits.load();
   summary.failed_fits = failed_fits.load();
+  summary.warnings = warnings.lines();
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return summary;

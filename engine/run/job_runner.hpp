@@ -49,6 +49,10 @@ struct RunSummary {
   std::int64_t fits = 0;
   std::int64_t failed_fits = 0;  // invalid or solver_failed
   double seconds = 0.0;
+  // FitWarnings::lines() of the fits computed (fit_warnings.hpp); empty under
+  // MPI, where the workers' runs reach rank 0 as file images (the fits'
+  // attribute `warning` holds them there too).
+  std::vector<std::string> warnings;
 };
 
 // A job that stopped because a run could not be computed or written (a full
@@ -66,6 +70,8 @@ RunSummary run_study(const Study& study, const RunOptions& options);
 // The CLI's closing lines on stderr: runs computed and skipped, fits, failures,
 // time, and where the results are.
 void print_run_summary(const JobSpec& job, const RunSummary& summary);
+// The summary's warnings, one "ggk: warning: " line each (printed under -q too).
+void print_fit_warnings(const RunSummary& summary);
 
 // Runs one run of the job's task for every sweep point (no I/O).
 RunRecord compute_run(const JobSpec& job, std::int32_t run);

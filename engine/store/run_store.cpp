@@ -202,6 +202,7 @@ void write_fit(Hdf5File& file, const std::string& group, const FitRecord& fit, c
   file.write_int64_attribute(group, "sweep_point", fit.point.index);
   file.write_string_attribute(group, "status", fit.status);
   file.write_string_attribute(group, "message", fit.message);
+  if (!fit.warning.empty()) file.write_string_attribute(group, "warning", fit.warning);
   file.write_vector(group + "/centers", as_span(fit.centers));
   const auto& w = fit.lspi.weights;
   file.write_vector(group + "/weights",
@@ -310,7 +311,7 @@ std::uint64_t run_bytes_bound(const JobSpec& job, const RunRecord& record) {
   for (const FitRecord& fit : record.fits) {
     bytes += 16 * kPerObjectOverhead + fit.centers.size() * 4 +
              static_cast<std::uint64_t>(fit.lspi.weights.size()) * 8 + fit.lspi.policy.size() * 4 +
-             fit.lspi.history.size() * 24 + fit.message.size();
+             fit.lspi.history.size() * 24 + fit.message.size() + fit.warning.size();
     if (job.output.store_matrices) {
       bytes += static_cast<std::uint64_t>(fit.lspi.a.nonZeros()) * 12 +
                static_cast<std::uint64_t>(fit.lspi.a.rows() + fit.lspi.b.size()) * 8;

@@ -161,6 +161,7 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point, const FitTab
     fit.centers.assign(ctx.graph.centers.begin(), ctx.graph.centers.begin() + point.kernels);
   } else {
     fit.arrays.push_back(eigenvalue_array(ctx.eigenbases.of(point.kernels)));
+    fit.warning = eigenbasis_warning(ctx.eigenbases.of(point.kernels));
   }
   set_graph_metrics(metrics, ctx.graph,
                     pvf ? kNaN : fit_kernel_gap(ctx, point.kernels, point.sigma));

@@ -1,6 +1,7 @@
 #include "engine/tasks/pvf_basis.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -45,6 +46,8 @@ RunEigenbases run_eigenbases(const kernels::CsrGraph& graph, std::span<const std
       basis.message = pairs.message;
       continue;
     }
+    basis.next_value = pairs.next_value;
+    basis.degenerate = pairs.degenerate;
     basis.values = std::move(pairs.values);
     basis.node_values = kernels::RowMatrixXd::Zero(graph.num_nodes, count);
     for (std::size_t r = 0; r < laplacian.nodes.size(); ++r) {
@@ -86,6 +89,20 @@ PvfRowTable pvf_row_table(const RunEigenbasis& basis, std::span<const std::int32
     table.row_of_state.push_back(row_of_node[static_cast<std::size_t>(node)]);
   }
   return table;
+}
+
+std::string eigenbasis_warning(const RunEigenbasis& basis) {
+  if (!basis.ok || !basis.degenerate) return {};
+  const std::string p = std::to_string(basis.values.size());
+  const std::string q = std::to_string(basis.values.size() + 1);
+  char values[96];
+  std::snprintf(values, sizeof values, "%.17g and %.17g) are equal within %g",
+                basis.values[basis.values.size() - 1], basis.next_value,
+                kernels::kEigenvalueTieTolerance);
+  return "the Laplacian's eigenvalues lambda_" + p + " and lambda_" + q + " (" + values +
+         " x its largest diagonal entry" +
+         ": the basis is not determined by the graph (the eigensolver's tie rule picks which " +
+         "vectors of the eigenspace the " + p + " proto-value functions take)";
 }
 
 NamedArray eigenvalue_array(const RunEigenbasis& basis) {

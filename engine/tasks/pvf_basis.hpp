@@ -7,6 +7,10 @@
 // own count, never on which other counts the job sweeps (Lanczos vectors for p
 // eigenpairs are not bit for bit the first p of a larger solve), so a study grown
 // by a kernel count equals it from scratch. Each fit stores its p eigenvalues.
+// On a graph of several components each eigenvector lives on one component,
+// exact zeros elsewhere (kernels/laplacian_eigensolver.hpp): a component no
+// reward reaches gets Q = 0 exactly. When the p-th and (p+1)-th eigenvalues are
+// tied the graph does not determine the basis: the fit carries a warning.
 //
 // States off the graph: the value of the nearest graph node, n(s) of the
 // continuous GGK (kernels/nearest_visited.hpp; for Khepera the nearest occupied
@@ -39,6 +43,8 @@ struct RunEigenbasis {
   // graph.num_nodes x P: row u the eigenvectors' entries at node u (zero for a
   // non-node); each eigenvector has unit norm over the nodes.
   kernels::RowMatrixXd node_values;
+  double next_value = 0.0;  // lambda_(P+1); NaN when P = nodes or unknown
+  bool degenerate = false;  // lambda_P and lambda_(P+1) tied: the basis is the solver's pick
 };
 
 // The distinct kernel counts of the points with basis "pvf" that are at most
@@ -73,6 +79,11 @@ struct PvfRowTable {
 };
 PvfRowTable pvf_row_table(const RunEigenbasis& basis, std::span<const std::int32_t> node_of,
                           std::int32_t p);
+
+// The warning of a fit on `basis` (FitRecord::warning): when its last
+// eigenvalue ties with the next, which vectors of the eigenspace the fit uses is
+// the eigensolver's choice, not the graph's; empty otherwise.
+std::string eigenbasis_warning(const RunEigenbasis& basis);
 
 // A fit's eigenvalues as its array "laplacian_eigenvalues" (p values).
 NamedArray eigenvalue_array(const RunEigenbasis& basis);

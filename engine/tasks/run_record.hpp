@@ -52,6 +52,10 @@ struct FitRecord {
   SweepPoint point;
   std::string status;   // kernels::to_string(LspiStatus), or "invalid" when the fit could not start
   std::string message;  // why, when not converged
+  // A caveat whatever the status (a PVF basis the graph does not determine,
+  // pvf_basis.hpp); empty when none. Stored as the fit's attribute `warning`
+  // only when not empty, and `ggk run` prints one line per fit kind.
+  std::string warning;
   std::vector<std::int32_t> centers;  // graph node ids of the kernel centres
   kernels::LspiResult lspi;
   // Deterministic metrics, in a fixed order per task (the summary's columns).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -227,6 +228,186 @@ TEST(LaplacianEigensolver, RefusesMoreEigenpairsThanNodes) {
   EXPECT_THROW(smallest_laplacian_eigenpairs(g.matrix, g.null_space, 6), std::invalid_argument);
   const LaplacianEigenpairs all = smallest_laplacian_eigenpairs(g.matrix, g.null_space, 5);
   expect_eigenpairs(g, all);
+}
+
+}  // namespace
+}  // namespace ggk::kernels
+
+namespace ggk::kernels {
+namespace {
+
+// Two components whose node ids interleave: a path of `a` nodes on the even ids
+// and a grid of rows x cols on the odd ids (then the rest of the grid's).
+struct TwoComponents {
+  CsrGraph graph;
+  std::vector<std::int32_t> path_nodes, grid_nodes;
+};
+
+TwoComponents interleaved_path_and_grid(std::int32_t a, std::int32_t rows, std::int32_t cols) {
+  TwoComponents two;
+  const std::int32_t b = rows * cols;
+  std::vector<std::int32_t> path_id(static_cast<std::size_t>(a)),
+      grid_id(static_cast<std::size_t>(b));
+  std::int32_t next = 0;
+  for (std::int32_t i = 0; i < std::max(a, b); ++i) {
+    if (i < a) path_id[static_cast<std::size_t>(i)] = next++;
+    if (i < b) grid_id[static_cast<std::size_t>(i)] = next++;
+  }
+  std::vector<WeightedEdge> edges;
+  for (std::int32_t i = 0; i + 1 < a; ++i) {
+    edges.push_back(
+        {path_id[static_cast<std::size_t>(i)], path_id[static_cast<std::size_t>(i + 1)], 1.0});
+  }
+  for (std::int32_t r = 0; r < rows; ++r) {
+    for (std::int32_t c = 0; c < cols; ++c) {
+      const auto id = [&](std::int32_t rr, std::int32_t cc) {
+        return grid_id[static_cast<std::size_t>(rr * cols + cc)];
+      };
+      if (c + 1 < cols) edges.push_back({id(r, c), id(r, c + 1), 1.0});
+      if (r + 1 < rows) edges.push_back({id(r, c), id(r + 1, c), 1.0});
+    }
+  }
+  two.graph = graph_from_edges(a + b, edges);
+  two.path_nodes = path_id;
+  two.grid_nodes = grid_id;
+  return two;
+}
+
+// The Laplacian of `graph` restricted to `nodes` (in the given order), as a graph
+// of its own.
+GraphLaplacian own_laplacian(const CsrGraph& graph, const std::vector<std::int32_t>& nodes,
+                             LaplacianKind kind) {
+  std::vector<std::int32_t> local(static_cast<std::size_t>(graph.num_nodes), -1);
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    local[static_cast<std::size_t>(nodes[i])] = static_cast<std::int32_t>(i);
+  std::vector<WeightedEdge> edges;
+  for (const std::int32_t u : nodes) {
+    for (const std::int32_t v : graph.neighbors(u)) {
+      if (u < v)
+        edges.push_back(
+            {local[static_cast<std::size_t>(u)], local[static_cast<std::size_t>(v)], 1.0});
+    }
+  }
+  return unit_laplacian(graph_from_edges(static_cast<std::int32_t>(nodes.size()), edges), kind);
+}
+
+// Each vector is exactly zero off one component (leaking rounding, or a mixture of
+// the two components' shared eigenvalues, is not), and the eigenvalues are the
+// union of each component's own spectrum: Lanczos (a path of 300, a 15 x 12 grid)
+// and the dense path (a path of 40, a 6 x 5 grid).
+TEST(LaplacianEigensolver, SolvesEachComponentOnItsOwn) {
+  for (const auto& [a, rows, cols] : {std::tuple{300, 15, 12}, std::tuple{40, 6, 5}}) {
+    const TwoComponents two = interleaved_path_and_grid(a, rows, cols);
+    for (const LaplacianKind kind : {LaplacianKind::combinatorial, LaplacianKind::normalized}) {
+      const GraphLaplacian g = unit_laplacian(two.graph, kind);
+      ASSERT_EQ(g.null_space.cols(), 2);
+      const std::int32_t p = 24;
+      const LaplacianEigenpairs pairs = smallest_laplacian_eigenpairs(g.matrix, g.null_space, p);
+      expect_eigenpairs(g, pairs);
+      const GraphLaplacian path = own_laplacian(two.graph, two.path_nodes, kind);
+      const GraphLaplacian grid = own_laplacian(two.graph, two.grid_nodes, kind);
+      const LaplacianEigenpairs path_pairs =
+          smallest_laplacian_eigenpairs(path.matrix, path.null_space, p);
+      const LaplacianEigenpairs grid_pairs =
+          smallest_laplacian_eigenpairs(grid.matrix, grid.null_space, p);
+      ASSERT_TRUE(path_pairs.ok && grid_pairs.ok);
+      std::int32_t taken_path = 0, taken_grid = 0;
+      for (std::int32_t j = 0; j < p; ++j) {
+        double off_path = 0.0, off_grid = 0.0;  // the largest entry off each component
+        for (const std::int32_t u : two.grid_nodes)
+          off_path = std::max(off_path, std::abs(pairs.vectors(u, j)));
+        for (const std::int32_t u : two.path_nodes)
+          off_grid = std::max(off_grid, std::abs(pairs.vectors(u, j)));
+        ASSERT_TRUE(off_path == 0.0 || off_grid == 0.0)
+            << "pair " << j << " of " << a << " + " << rows << " x " << cols << ": " << off_path
+            << " off the path, " << off_grid << " off the grid";
+        // Each component's pairs in its own order, its own solve's values and vectors.
+        const bool on_path = off_path == 0.0;
+        const LaplacianEigenpairs& own = on_path ? path_pairs : grid_pairs;
+        const std::vector<std::int32_t>& nodes = on_path ? two.path_nodes : two.grid_nodes;
+        const std::int32_t k = on_path ? taken_path++ : taken_grid++;
+        EXPECT_EQ(pairs.values[j], own.values[k]) << "pair " << j;
+        for (std::size_t i = 0; i < nodes.size(); ++i) {
+          EXPECT_NEAR(pairs.vectors(nodes[i], j), own.vectors(static_cast<Eigen::Index>(i), k),
+                      1e-15)
+              << "pair " << j << " node " << nodes[i];
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace ggk::kernels
+
+namespace ggk::kernels {
+namespace {
+
+// The tie rule: eigenvalues equal within kEigenvalueTieTolerance go by component
+// (numbered by smallest node), then by order within it. The paths P3 (nodes 0-2:
+// 0, 1, 3) and P6 (nodes 3-8: 0, 0.27, 1, 2, 3, 3.73) share 1 and 3, computed in
+// two solves (not bit for bit equal): P3's comes first. And the cut through a
+// tie is reported: lambda_p = lambda_(p+1) leaves the basis to the rule.
+TEST(LaplacianEigensolver, TiesAcrossComponentsGoToTheLowestComponent) {
+  std::vector<WeightedEdge> edges = {{0, 1, 1.0}, {1, 2, 1.0}};
+  for (std::int32_t i = 3; i < 8; ++i) edges.push_back({i, i + 1, 1.0});
+  const GraphLaplacian g = unit_laplacian(graph_from_edges(9, edges), LaplacianKind::combinatorial);
+  const auto component_of = [&](const LaplacianEigenpairs& pairs, std::int32_t j) {
+    return pairs.vectors.col(j).tail(6).norm() == 0.0   ? 0
+           : pairs.vectors.col(j).head(3).norm() == 0.0 ? 1
+                                                        : -1;
+  };
+  // p = 4: 0 (P3), 0 (P6), 0.27 (P6), 1 (P3); P6's 1 is not taken: a tie cut.
+  const LaplacianEigenpairs four = smallest_laplacian_eigenpairs(g.matrix, g.null_space, 4);
+  expect_eigenpairs(g, four, 1e-13);
+  EXPECT_EQ(four.components, (std::vector<std::int32_t>{0, 1, 1, 0}));
+  for (std::int32_t j = 0; j < 4; ++j) EXPECT_EQ(component_of(four, j), four.components[j]);
+  EXPECT_NEAR(four.values[3], 1.0, 1e-14);
+  EXPECT_NEAR(four.next_value, 1.0, 1e-14);
+  EXPECT_TRUE(four.degenerate);
+  // p = 5 takes both 1s (P3's first); the next, 2 (P6), is no tie.
+  const LaplacianEigenpairs five = smallest_laplacian_eigenpairs(g.matrix, g.null_space, 5);
+  EXPECT_EQ(five.components, (std::vector<std::int32_t>{0, 1, 1, 0, 1}));
+  EXPECT_NEAR(five.next_value, 2.0, 1e-14);
+  EXPECT_FALSE(five.degenerate);
+  // p = 1: one of two zero eigenvalues, the first component's indicator.
+  const LaplacianEigenpairs one = smallest_laplacian_eigenpairs(g.matrix, g.null_space, 1);
+  EXPECT_EQ(one.components, (std::vector<std::int32_t>{0}));
+  EXPECT_EQ(one.values[0], 0.0);
+  EXPECT_EQ(one.next_value, 0.0);
+  EXPECT_TRUE(one.degenerate);
+  // All 9: both 3s, P3's first; nothing left.
+  const LaplacianEigenpairs all = smallest_laplacian_eigenpairs(g.matrix, g.null_space, 9);
+  expect_eigenpairs(g, all, 1e-13);
+  EXPECT_EQ(all.components, (std::vector<std::int32_t>{0, 1, 1, 0, 1, 1, 0, 1, 1}));
+  EXPECT_TRUE(std::isnan(all.next_value));
+  EXPECT_FALSE(all.degenerate);
+}
+
+// A cut through a repeated eigenvalue of one connected graph is reported too:
+// the cycle's 2 - 2 cos(2 pi k / n) come in pairs, by the dense path (40 nodes)
+// and by Lanczos (600), whose next eigenvalue takes a solve of its own without
+// changing the vectors taken.
+TEST(LaplacianEigensolver, ReportsAnEigenvalueCutByTheCount) {
+  for (const std::int32_t n : {40, 600}) {
+    const GraphLaplacian g = unit_laplacian(cycle_graph(n), LaplacianKind::combinatorial);
+    const auto cycle_value = [n](std::int32_t k) {
+      return 2.0 - 2.0 * std::cos(2.0 * std::numbers::pi * k / n);
+    };
+    const LaplacianEigenpairs cut = smallest_laplacian_eigenpairs(g.matrix, g.null_space, 8);
+    ASSERT_TRUE(cut.ok) << cut.message;
+    EXPECT_TRUE(cut.degenerate) << n;
+    EXPECT_NEAR(cut.next_value, cycle_value(4), 1e-12);
+    EXPECT_EQ(cut.components, std::vector<std::int32_t>(8, 0));
+    const LaplacianEigenpairs whole = smallest_laplacian_eigenpairs(g.matrix, g.null_space, 9);
+    EXPECT_FALSE(whole.degenerate) << n;
+    EXPECT_NEAR(whole.next_value, cycle_value(5), 1e-12);
+  }
+  // A path has simple eigenvalues: never a cut.
+  const GraphLaplacian path = unit_laplacian(path_graph(300), LaplacianKind::normalized);
+  const LaplacianEigenpairs pairs = smallest_laplacian_eigenpairs(path.matrix, path.null_space, 8);
+  EXPECT_FALSE(pairs.degenerate);
+  EXPECT_GT(pairs.next_value, pairs.values[7]);
 }
 
 }  // namespace

@@ -186,6 +186,34 @@ TEST_F(RunStoreTest, NamedArraysAreStoredAsTheirElementType) {
   EXPECT_THROW(write_run(other, job, record), std::logic_error);
 }
 
+// A fit's warning (FitRecord::warning) is its attribute `warning`, left out
+// when there is none (so that fits without one are stored as before).
+TEST_F(RunStoreTest, AFitsWarningIsAnAttributeOnlyWhenThereIsOne) {
+  JobSpec job;
+  job.task = "maze";
+  RunRecord record;
+  record.run = 1;
+  record.graph.num_nodes = 0;
+  record.graph.indptr = {0};
+  record.fits.resize(2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    record.fits[i].point.basis = KernelType::pvf;
+    record.fits[i].point.kernels = 3 + static_cast<std::int32_t>(i);
+    record.fits[i].point.index = static_cast<std::int32_t>(i);
+    record.fits[i].status = "converged";
+  }
+  record.fits[1].warning = "the basis is not determined by the graph";
+  {
+    Hdf5File file = Hdf5File::create(dir_ / "warned.h5");
+    write_run(file, job, record);
+  }
+  const Hdf5File file = Hdf5File::open_read_only(dir_ / "warned.h5");
+  const std::string fits = run_group("maze", 1) + "/fits/";
+  EXPECT_FALSE(file.has_attribute(fits + fit_group_name(job, record.fits[0].point), "warning"));
+  EXPECT_EQ(file.read_string_attribute(fits + fit_group_name(job, record.fits[1].point), "warning"),
+            record.fits[1].warning);
+}
+
 TEST(IsScratch, NamesTheWritersScratchOnly) {
   EXPECT_TRUE(is_scratch(".staging"));
   EXPECT_TRUE(is_scratch(".staging_discarded_3"));
