@@ -28,8 +28,8 @@
 #include "engine/run/job_writer.hpp"
 #include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
-#include "engine/run/process_alive.hpp"
 #include "engine/run/stop_signals.hpp"
+#include "engine/store/process_state.hpp"
 #include "engine/store/run_store.hpp"
 #include "engine/tasks/task_list.hpp"
 

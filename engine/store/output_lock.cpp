@@ -1,7 +1,6 @@
 #include "engine/store/output_lock.hpp"
 
 #include <fcntl.h>
-#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -15,6 +14,7 @@
 #include <utility>
 
 #include "engine/job/usage_error.hpp"
+#include "engine/store/process_state.hpp"
 #include "engine/store/utc_time.hpp"
 
 namespace ggk::engine {
@@ -29,31 +29,6 @@ std::string host_name() {
   char buffer[256] = {};
   if (::gethostname(buffer, sizeof buffer - 1) != 0) return "unknown-host";
   return buffer;
-}
-
-// Field `index` (from 3: the state) of /proc/<pid>/stat; empty when unknown.
-std::string stat_field(pid_t pid, int index) {
-  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
-  const std::string text{std::istreambuf_iterator<char>(stat), std::istreambuf_iterator<char>()};
-  const std::size_t name_end = text.rfind(')');  // the command name may hold spaces
-  if (name_end == std::string::npos) return {};
-  std::istringstream fields(text.substr(name_end + 1));
-  std::string field;
-  for (int at = 3; at <= index && fields >> field; ++at) {
-    if (at == index) return field;
-  }
-  return {};
-}
-
-// The start time of process `pid` in clock ticks since boot (field 22): with the
-// pid, it names one process even when pids are reused. Empty when unknown.
-std::string process_start(pid_t pid) {
-  return stat_field(pid, 22);
-}
-
-// True when `pid` has exited but its parent has not reaped it (state Z).
-bool is_zombie(pid_t pid) {
-  return stat_field(pid, 3) == "Z";
 }
 
 std::optional<std::string> read_text(const fs::path& path) {
@@ -108,8 +83,7 @@ Holder parse_holder(const std::string& text) {
 // stopped on Ctrl-C, for some milliseconds after mpirun has returned).
 bool holder_is_gone(const Holder& holder) {
   if (holder.pid <= 0 || holder.host != host_name()) return false;
-  if (::kill(holder.pid, 0) != 0 && errno == ESRCH) return true;
-  if (is_zombie(holder.pid)) return true;
+  if (!process_alive(holder.pid)) return true;
   const std::string start = process_start(holder.pid);
   return !holder.process_start.empty() && !start.empty() && start != holder.process_start;
 }

@@ -1,6 +1,7 @@
-// process_alive: this process runs; a child that exited is dead before it is
-// reaped (a zombie) and after; a pid that names nothing is dead.
-#include "engine/run/process_alive.hpp"
+// process_state: this process runs; a child that exited is dead before it is
+// reaped (a zombie) and after; a pid that names nothing is dead; a process's start
+// time is its own.
+#include "engine/store/process_state.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -10,7 +11,7 @@
 namespace ggk::engine {
 namespace {
 
-TEST(ProcessAlive, ThisProcessRunsAndAnExitedChildDoesNot) {
+TEST(ProcessState, ThisProcessRunsAndAnExitedChildDoesNot) {
   EXPECT_TRUE(process_alive(getpid()));
   const pid_t child = fork();
   ASSERT_GE(child, 0);
@@ -25,7 +26,13 @@ TEST(ProcessAlive, ThisProcessRunsAndAnExitedChildDoesNot) {
   EXPECT_FALSE(process_alive(-5));
 }
 
-TEST(ProcessAlive, ASleepingChildIsAlive) {
+TEST(ProcessState, AStartTimeIsKnownForThisProcessOnly) {
+  EXPECT_FALSE(process_start(getpid()).empty());
+  EXPECT_EQ(process_start(getpid()), process_start(getpid()));
+  EXPECT_TRUE(process_start(0).empty());
+}
+
+TEST(ProcessState, ASleepingChildIsAlive) {
   const pid_t child = fork();
   ASSERT_GE(child, 0);
   if (child == 0) {
