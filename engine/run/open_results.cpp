@@ -361,6 +361,20 @@ ResultsHeader new_header(const Study& study, const RunOptions& options);
 Hdf5File resume(const Study& study, const RunOptions& options, const fs::path& output,
                 std::vector<std::vector<std::int32_t>>& complete, std::vector<std::string>& notes,
                 std::vector<std::string>& info) {
+  // The job is compared on a read-only handle first: HDF5 cuts a file opened for
+  // writing to its allocated end when it closes it, which would drop a killed
+  // writer's staging on a resume that is then refused (a refusal touches
+  // nothing). A file that does not open read-only goes on as before (a
+  // truncated one is extended by open_for_resume, a damaged one salvaged).
+  std::optional<Hdf5File> reading;
+  try {
+    reading.emplace(Hdf5File::open_read_only(output));
+  } catch (const std::runtime_error&) {
+  }
+  if (reading) {
+    check_same_job(*reading, study, output);
+    reading->close();
+  }
   Hdf5File file = open_for_resume(output, notes);
   const bool grown = check_same_job(file, study, output);
   align_configurations(file, study, output);

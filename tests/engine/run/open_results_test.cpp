@@ -185,6 +185,28 @@ TEST_F(JobRunnerTest, ResumeRefusesAFileOfAnotherTaskNamingItShortly) {
   EXPECT_EQ(file_bytes(job.output.file), bytes) << "a refused resume must not change the file";
 }
 
+// Issue 37, F7: a killed writer leaves bytes past the file's allocated end (its
+// uncommitted staging); a refused resume left HDF5 to cut them when it closed the
+// file it had opened for writing (22 of 34 refusals in the fault campaign). The
+// job is now compared on a read-only handle: the refusal changes no byte.
+TEST_F(JobRunnerTest, ARefusedResumeLeavesBytesPastTheAllocatedEnd) {
+  const std::string text = determinism_job(dir_ / "out.h5");
+  const JobSpec job = load_job("job.toml", text);
+  run_job(job, options_for(job.output.file));
+  {
+    std::ofstream tail(job.output.file, std::ios::binary | std::ios::app);
+    tail << std::string(4096, '\x5a');  // what a writer killed mid-flush leaves
+  }
+  std::string other_text = text;
+  other_text.replace(other_text.find("seed = 20240917"), 15, "seed = 20240918");
+  const JobSpec other = load_job("other.toml", other_text);
+  const std::string bytes = file_bytes(job.output.file);
+  RunOptions resume = options_for(job.output.file);
+  resume.resume = true;
+  EXPECT_THROW(run_job(other, resume), UsageError);
+  EXPECT_EQ(file_bytes(job.output.file), bytes) << "a refused resume must not change the file";
+}
+
 TEST_F(JobRunnerTest, ResumeComparesTheJobsMeaning) {
   // sigma = [3] and [3.0], a key at its default written out, comments and key
   // order: the same job, so the file resumes (issue 20: resumes that never mislead).
