@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -17,6 +18,7 @@
 
 #include "engine/job/job_error.hpp"
 #include "engine/job/job_file.hpp"
+#include "engine/job/shell_words.hpp"
 #include "engine/job/spelling.hpp"
 #include "engine/job/study.hpp"
 #include "engine/job/sweep.hpp"
@@ -29,6 +31,7 @@
 #include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
 #include "engine/run/shards.hpp"
+#include "engine/store/output_lock.hpp"
 #include "engine/store/results_diff.hpp"
 #include "engine/store/results_info.hpp"
 #include "engine/store/results_merge.hpp"
@@ -420,15 +423,34 @@ int main(int argc, char** argv) {
       });
     }
     if (*verify) {
+      // A file that a ggk is writing now may be caught between its writes: what
+      // looks damaged (or not yet a results file) is then said to be in writing,
+      // exit 2 (verify it again later), not DAMAGED.
+      std::ostringstream report;
+      int status = 1;
+      std::string refusal;
       try {
-        return engine::read_isolated(
-            {verify_path}, [&] { return engine::verify_results(verify_path, out) ? 0 : 1; });
+        status = engine::read_isolated(
+            {verify_path}, [&] { return engine::verify_results(verify_path, report) ? 0 : 1; });
       } catch (const engine::ReadingCrash& e) {
-        out << verify_path << ": DAMAGED: reading it crashed the HDF5 library (" << e.how()
-            << "): an object header is damaged where HDF5 does not check before it "
-               "reads; ggk cannot read this file\n";
-        return 1;
+        report << verify_path << ": DAMAGED: reading it crashed the HDF5 library (" << e.how()
+               << "): an object header is damaged where HDF5 does not check before it "
+                  "reads; ggk cannot read this file\n";
+      } catch (const engine::UsageError& e) {
+        refusal = e.what();
       }
+      if (status != 0) {
+        if (const auto writer = engine::OutputLock::writer_of(verify_path)) {
+          std::cerr << "ggk: " << verify_path << " is being written by " << *writer
+                    << ": it cannot be verified between its writes; run `ggk verify "
+                    << engine::shell_quoted(verify_path) << "` again when that ggk has "
+                    << "finished or stopped\n";
+          return 2;
+        }
+      }
+      if (!refusal.empty()) throw engine::UsageError(refusal);
+      out << report.str();
+      return status;
     }
     if (*diff) {
       return engine::read_isolated({diff_files[0], diff_files[1]}, [&] {

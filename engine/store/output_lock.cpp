@@ -137,6 +137,15 @@ bool create_lock(const fs::path& results, const fs::path& lock, const fs::path& 
 
 }  // namespace
 
+std::optional<std::string> OutputLock::writer_of(const fs::path& results) {
+  const std::optional<std::string> text = read_text(path_for(results));
+  if (!text) return std::nullopt;
+  const Holder holder = parse_holder(*text);
+  if (holder.pid <= 0 || holder_is_gone(holder)) return std::nullopt;
+  return "ggk pid " + std::to_string(holder.pid) + " on host " + holder.host + ", since " +
+         holder.since;
+}
+
 fs::path OutputLock::path_for(const fs::path& results) {
   return fs::path(results.string() + ".lock");
 }

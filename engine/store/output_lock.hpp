@@ -18,6 +18,7 @@
 // the host and pid and says to remove the lock file if no ggk runs there.
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 namespace ggk::engine {
@@ -31,6 +32,9 @@ class OutputLock {
 
   // The lock file of `results`: "<results>.lock".
   static std::filesystem::path path_for(const std::filesystem::path& results);
+  // Who writes `results` now ("ggk pid 123 on host h, since 2026-11-27T16:00:00Z"),
+  // when its lock names a holder that is not known to be gone; nullopt otherwise.
+  static std::optional<std::string> writer_of(const std::filesystem::path& results);
 
   OutputLock() = default;  // holds nothing
   OutputLock(OutputLock&& other) noexcept;

@@ -21,6 +21,7 @@
 #include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_file.hpp"
 #include "engine/job/sweep.hpp"
+#include "engine/store/process_state.hpp"
 #include "engine/store/run_store.hpp"
 #include "engine/tasks/task_list.hpp"
 #include "support/files.hpp"
@@ -290,6 +291,33 @@ TEST_F(CliTest, InfoOnABadFileIsAUserError) {
   EXPECT_EQ(other.status, kUserError);
   EXPECT_TRUE(contains(other.err, foreign.string()));
   EXPECT_TRUE(contains(other.err, "not a ggk results file"));
+}
+
+// Issue 37, F10: a file that a live ggk writes (its lock names a running
+// process) and that reads as damaged or as no results file yet is "being
+// written", exit 2, with the command to run later; not DAMAGED.
+TEST_F(CliTest, VerifyOfAFileBeingWrittenSaysSo) {
+  const fs::path file = dir_ / "writing.h5";
+  {
+    Hdf5File partial = Hdf5File::create(file);  // a ggk caught before its header
+    partial.write_vector("/x", std::vector<double>{1.0});
+    partial.flush();
+  }
+  const Outcome unlocked = ggk({"verify", file.string()});
+  EXPECT_EQ(unlocked.status, kUserError);
+  EXPECT_TRUE(contains(unlocked.err, "not a ggk results file")) << unlocked.err;
+
+  char host[256] = {};
+  ASSERT_EQ(gethostname(host, sizeof host - 1), 0);
+  write_file(fs::path(file.string() + ".lock"),
+             "ggk output lock\nhost=" + std::string(host) + "\npid=" + std::to_string(getpid()) +
+                 "\nprocess_start=" + process_start(getpid()) + "\nsince=2026-11-27T16:00:00Z\n");
+  const Outcome locked = ggk({"verify", file.string()});
+  EXPECT_EQ(locked.status, kUserError);
+  EXPECT_TRUE(contains(locked.err, "is being written by ggk pid " + std::to_string(getpid())))
+      << locked.err;
+  EXPECT_TRUE(contains(locked.err, "`ggk verify " + file.string() + "` again")) << locked.err;
+  EXPECT_FALSE(contains(locked.out + locked.err, "DAMAGED"));
 }
 
 TEST_F(CliTest, InfoReportsAnInterruptedSweep) {
