@@ -271,13 +271,17 @@ bool extend_truncated(const fs::path& output, const std::string& error,
   return true;
 }
 
+// Opened as the writer opens it between runs (Hdf5File::reopen_for_writer): a
+// reader holding the file (a notebook's h5py handle, a `ggk info` loop) keeps
+// HDF5's lock, so after a bounded wait the file is written without HDF5's lock;
+// ggk's own output lock, held here, keeps out a second writer.
 Hdf5File open_for_resume(const fs::path& output, std::vector<std::string>& notes) {
   try {
-    return Hdf5File::open_read_write(output);
+    return Hdf5File::reopen_for_writer(output);
   } catch (const std::runtime_error& e) {
     if (!extend_truncated(output, e.what(), notes)) throw UsageError(e.what());
   }
-  return open_as_user([&] { return Hdf5File::open_read_write(output); });
+  return open_as_user([&] { return Hdf5File::reopen_for_writer(output); });
 }
 
 void write_configuration_group(Hdf5File& file, const RunConfiguration& configuration) {

@@ -6,7 +6,10 @@
 
 #include "engine/run/open_results.hpp"
 
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -205,6 +208,41 @@ TEST_F(JobRunnerTest, ARefusedResumeLeavesBytesPastTheAllocatedEnd) {
   resume.resume = true;
   EXPECT_THROW(run_job(other, resume), UsageError);
   EXPECT_EQ(file_bytes(job.output.file), bytes) << "a refused resume must not change the file";
+}
+
+// Issue 37, F5: a reader holding the file (another process: a notebook's h5py
+// handle, a `ggk info` loop) keeps HDF5's lock; --resume failed with "unable to
+// lock file, errno = 11" every time. It now waits briefly, then opens the file as
+// the writer does between runs, without HDF5's lock (ggk's own lock is held).
+TEST_F(JobRunnerTest, ResumeGoesOnWhileAReaderHoldsTheFile) {
+  const std::string text = determinism_job(dir_ / "out.h5");
+  JobSpec job = load_job("job.toml", text);
+  job.runs = 2;
+  run_job(job, options_for(job.output.file));
+  int ready[2];
+  ASSERT_EQ(pipe(ready), 0);
+  const pid_t reader = fork();
+  ASSERT_GE(reader, 0);
+  if (reader == 0) {
+    const Hdf5File held = Hdf5File::open_read_only(job.output.file);
+    const char byte = 1;
+    (void)!write(ready[1], &byte, 1);
+    pause();  // until killed
+    _exit(0);
+  }
+  char byte = 0;
+  ASSERT_EQ(read(ready[0], &byte, 1), 1);  // the reader has the file open
+  job.runs = 3;
+  RunOptions resume = options_for(job.output.file);
+  resume.resume = true;
+  RunSummary summary;
+  EXPECT_NO_THROW(summary = run_job(job, resume));
+  kill(reader, SIGKILL);
+  waitpid(reader, nullptr, 0);
+  close(ready[0]);
+  close(ready[1]);
+  EXPECT_EQ(summary.runs_computed, 1);
+  EXPECT_EQ(summary.runs_skipped, 2);
 }
 
 TEST_F(JobRunnerTest, ResumeComparesTheJobsMeaning) {
