@@ -4,12 +4,13 @@
 // (engine/run/mpi_runner.hpp); everything else runs on rank 0 alone.
 
 #include <omp.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -232,6 +233,41 @@ void check_spelling(const CLI::App& app, int argc, char** argv) {
 
 }  // namespace
 
+namespace {
+
+// `ggk verify` of a file that `writer` (OutputLock::writer_of) writes now: the
+// report goes to a scratch file first (the verifying child prints it there) and
+// reaches `out` only when the file is whole; anything else is "being written".
+int verify_while_written(const std::string& path, const std::string& writer, std::ostream& out) {
+  std::string scratch = (std::filesystem::temp_directory_path() / "ggk-verify-XXXXXX").string();
+  const int fd = ::mkstemp(scratch.data());
+  if (fd < 0)
+    throw ggk::engine::UsageError("cannot create a scratch file in " +
+                                  std::filesystem::temp_directory_path().string());
+  ::close(fd);
+  int status = 1;
+  try {
+    status = ggk::engine::read_isolated({path}, [&] {
+      std::ofstream report(scratch);
+      return ggk::engine::verify_results(path, report) ? 0 : 1;
+    });
+  } catch (const ggk::engine::ReadingCrash&) {
+  } catch (const ggk::engine::UsageError&) {
+  }
+  if (status == 0) {
+    std::ifstream report(scratch);
+    out << report.rdbuf();
+  }
+  ::unlink(scratch.c_str());
+  if (status == 0) return 0;
+  std::cerr << "ggk: " << path << " is being written by " << writer
+            << ": it cannot be verified between its writes; run `ggk verify "
+            << ggk::engine::shell_quoted(path) << "` again when that ggk has finished or stopped\n";
+  return 2;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   // Under ulimit -v, OpenBLAS's thread pool can spin forever: restart without it.
   engine::restart_without_blas_pool(argv);
@@ -423,34 +459,23 @@ int main(int argc, char** argv) {
       });
     }
     if (*verify) {
-      // A file that a ggk is writing now may be caught between its writes: what
+      // A file that a live ggk writes now (its lock names a running process) may
+      // be caught between its writes: it is verified into a scratch file, and what
       // looks damaged (or not yet a results file) is then said to be in writing,
-      // exit 2 (verify it again later), not DAMAGED.
-      std::ostringstream report;
-      int status = 1;
-      std::string refusal;
+      // exit 2 (verify it again later), not DAMAGED. The verifying child prints
+      // directly otherwise.
+      if (const auto writer = engine::OutputLock::writer_of(verify_path)) {
+        return verify_while_written(verify_path, *writer, out);
+      }
       try {
-        status = engine::read_isolated(
-            {verify_path}, [&] { return engine::verify_results(verify_path, report) ? 0 : 1; });
+        return engine::read_isolated(
+            {verify_path}, [&] { return engine::verify_results(verify_path, out) ? 0 : 1; });
       } catch (const engine::ReadingCrash& e) {
-        report << verify_path << ": DAMAGED: reading it crashed the HDF5 library (" << e.how()
-               << "): an object header is damaged where HDF5 does not check before it "
-                  "reads; ggk cannot read this file\n";
-      } catch (const engine::UsageError& e) {
-        refusal = e.what();
+        out << verify_path << ": DAMAGED: reading it crashed the HDF5 library (" << e.how()
+            << "): an object header is damaged where HDF5 does not check before it "
+               "reads; ggk cannot read this file\n";
+        return 1;
       }
-      if (status != 0) {
-        if (const auto writer = engine::OutputLock::writer_of(verify_path)) {
-          std::cerr << "ggk: " << verify_path << " is being written by " << *writer
-                    << ": it cannot be verified between its writes; run `ggk verify "
-                    << engine::shell_quoted(verify_path) << "` again when that ggk has "
-                    << "finished or stopped\n";
-          return 2;
-        }
-      }
-      if (!refusal.empty()) throw engine::UsageError(refusal);
-      out << report.str();
-      return status;
     }
     if (*diff) {
       return engine::read_isolated({diff_files[0], diff_files[1]}, [&] {
