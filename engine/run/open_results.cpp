@@ -375,12 +375,13 @@ Hdf5File resume(const Study& study, const RunOptions& options, const fs::path& o
     reading.emplace(Hdf5File::open_read_only(output));
   } catch (const std::runtime_error&) {
   }
+  std::optional<bool> grows_into;  // the comparison's answer, when it read the file
   if (reading) {
-    check_same_job(*reading, study, output);
+    grows_into = check_same_job(*reading, study, output);
     reading->close();
   }
   Hdf5File file = open_for_resume(output, notes);
-  const bool grown = check_same_job(file, study, output);
+  const bool grown = grows_into ? *grows_into : check_same_job(file, study, output);
   align_configurations(file, study, output);
   if (grown) {
     // The file now holds the larger job's runs (some not computed yet).

@@ -110,6 +110,12 @@ kernels::LspiOptions lspi_options(const std::string& solver, double gamma, doubl
   return options;
 }
 
+// True when the policy's argument is one state's row (a 1-D array), not a matrix.
+bool is_one_row(const py::handle& rows) {
+  return !py::module_::import("scipy.sparse").attr("issparse")(rows).cast<bool>() &&
+         py::module_::import("numpy").attr("ndim")(rows).cast<int>() == 1;
+}
+
 // Q(s, a) of the states whose rows `rows` holds: a copy basis reads one row of p
 // state kernels per state (Q(s, a) = w_a . k(s), summed as the engine's greedy
 // step over observations does), the others m rows of k features per state.
@@ -120,9 +126,7 @@ kernels::RowMatrixXd action_values(const LspiFit& fit, const py::handle& rows) {
                           fit.result.message + ")");
   }
   py::object matrix = py::reinterpret_borrow<py::object>(rows);
-  const bool single = !py::module_::import("scipy.sparse").attr("issparse")(rows).cast<bool>() &&
-                      py::module_::import("numpy").attr("ndim")(rows).cast<int>() == 1;
-  if (single) matrix = py::module_::import("numpy").attr("atleast_2d")(rows);
+  if (is_one_row(rows)) matrix = py::module_::import("numpy").attr("atleast_2d")(rows);
   const kernels::SparseRowMatrix table = sparse_rows_from(matrix, "the policy's argument");
   const std::int32_t m = fit.num_actions;
   if (table.cols() != fit.row_width) {
@@ -160,9 +164,7 @@ py::object greedy_actions(const LspiFit& fit, const py::handle& rows) {
     actions[static_cast<std::size_t>(i)] =
         kernels::first_best(q.data() + i * q.cols(), fit.num_actions);
   }
-  const bool single = !py::module_::import("scipy.sparse").attr("issparse")(rows).cast<bool>() &&
-                      py::module_::import("numpy").attr("ndim")(rows).cast<int>() == 1;
-  if (single) return py::int_(actions.front());
+  if (is_one_row(rows)) return py::int_(actions.front());
   return to_numpy(std::move(actions));
 }
 
