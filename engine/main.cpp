@@ -511,6 +511,10 @@ int main(int argc, char** argv) {
   } catch (const engine::RunFailure& e) {
     std::fprintf(stderr, "ggk: error: %s\n", e.what());
     return 1;
+  } catch (const std::bad_alloc&) {  // the machine's memory or the user's limit, not a bug
+    std::fprintf(stderr, "ggk: error: not enough memory: an allocation failed%s\n",
+                 engine::address_space_limit_words().c_str());
+    return kUserError;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ggk: internal error: %s\n", e.what());
     return 1;

@@ -20,6 +20,13 @@
 #                    or 2 (no crash, no hang, no "internal error"), and --resume
 #                    finishes to the reference or refuses (exit 2) leaving the
 #                    file as it was
+#   hostile_lengths  a complete results file with one string's stored length set
+#                    to 1..4 GB; info, verify, diff and --resume answer within
+#                    500 MB of resident memory, and the resumed file equals the
+#                    reference
+#   tight_memory     info, verify and diff of a whole file under ulimit -v of
+#                    108..140 MB: read, or "not enough memory" (exit 2); never
+#                    DAMAGED, never a crash
 #   resume_overrides a job with --set and --sweep overrides stopped by SIGINT or
 #                    SIGTERM; the resume command ggk printed, pasted into a
 #                    shell, finishes to the overridden job's reference
@@ -237,6 +244,97 @@ hostile_results() {
   report hostile_results $survived "$tries"
 }
 
+# Sets the stored length of one variable-length string value of file $1 (the
+# index picks which, modulo their number) to a random 1..4 GB, as a fuzzed byte
+# did in stop 41's campaign (F1): HDF5 allocates such a length before it sees
+# the damage. Prints what it did.
+damage_string_length() {  # file index
+  /usr/bin/python3 - "$1" "$2" "$((RANDOM * 32768 + RANDOM))" <<'PY'
+import re, struct, sys
+path, index, noise = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+data = bytearray(open(path, "rb").read())
+heaps = {m.start() for m in re.finditer(b"GCOL", data)}
+# A value on disk: its length (uint32), its heap collection's address (uint64),
+# the object's index (uint32).
+found = [i for i in range(len(data) - 16)
+         if struct.unpack_from("<Q", data, i + 4)[0] in heaps
+         and 0 < struct.unpack_from("<I", data, i)[0] < 4096]
+length = (1 << 30) + noise % (3 << 30)
+at = found[index % len(found)]
+struct.pack_into("<I", data, at, length)
+open(path, "wb").write(data)
+print(f"string value at byte {at} (of {len(found)}) claims {length} bytes")
+PY
+}
+
+# Runs a command; prints its status and the peak resident memory, in MB, of it
+# and every process it waited for (ggk reads in a child).
+peak_of() {
+  /usr/bin/python3 -c '
+import resource, subprocess, sys
+status = subprocess.run(sys.argv[2:], stdout=subprocess.DEVNULL, stderr=open(sys.argv[1], "w")).returncode
+print(status, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss // 1024)' "$scratch/err" "$@"
+}
+
+# F1: a damaged string length: info, verify, diff and --resume answer within
+# 500 MB of resident memory (before: 0.6 to 2.9 GB, up to the damaged length,
+# and tens of seconds), and the resumed file equals the reference.
+hostile_lengths() {
+  local survived=0 try out what s peak ok command
+  for try in $(seq "$tries"); do
+    out=$scratch/l$try.h5
+    cp "$reference" "$out"
+    what=$(damage_string_length "$out" $RANDOM)
+    ok=1
+    for command in info verify diff resume; do
+      case $command in
+      diff) read -r s peak < <(peak_of timeout "$limit" "$ggk" diff "$reference" "$out") ;;
+      resume) read -r s peak < <(peak_of timeout "$limit" "$ggk" run "$scratch/job.toml" -j 2 -q --resume -o "$out") ;;
+      *) read -r s peak < <(peak_of timeout "$limit" "$ggk" $command "$out") ;;
+      esac
+      if ! answered "$s" "$scratch/err" || [ "$peak" -gt 500 ]; then
+        ok=0
+        echo "hostile_lengths try $try ($what): ggk $command: status $s, peak $peak MB: $(head -c 300 "$scratch/err")"
+      fi
+    done
+    "$ggk" diff "$reference" "$out" >/dev/null 2>&1 || {
+      ok=0
+      echo "hostile_lengths try $try ($what): the resumed file differs from the reference"
+    }
+    [ $ok = 1 ] && survived=$((survived + 1))
+    rm -f "$out" "$out".* "$scratch"/l$try.damaged*.h5
+  done
+  report hostile_lengths $survived "$tries"
+}
+
+# F2: a whole file read under a tight address-space limit (ulimit -v, 108..140
+# MB): info, verify and diff read it or say "not enough memory" (exit 2); never
+# DAMAGED, never a crash. (Below ~105 MB OpenBLAS cannot start its threads when
+# it loads, before ggk runs: its own message, exit 130, tolerated here.)
+tight_memory() {
+  local survived=0 try megabytes command s ok
+  for try in $(seq "$tries"); do
+    megabytes=$((108 + RANDOM % 33))
+    ok=1
+    for command in info verify diff; do
+      s=0
+      if [ $command = diff ]; then
+        timeout "$limit" prlimit --as=$((megabytes * 1000000)) "$ggk" diff "$reference" "$reference" >"$scratch/out" 2>"$scratch/err" || s=$?
+      else
+        timeout "$limit" prlimit --as=$((megabytes * 1000000)) "$ggk" $command "$reference" >"$scratch/out" 2>"$scratch/err" || s=$?
+      fi
+      [ $s = 130 ] && grep -q "OpenBLAS blas_thread_init" "$scratch/err" && continue
+      if [ $s = 1 ] || ! answered $s "$scratch/err" || grep -q DAMAGED "$scratch/out" ||
+        { [ $s = 2 ] && ! grep -q "not enough memory" "$scratch/err"; }; then
+        ok=0
+        echo "tight_memory try $try (${megabytes} MB): ggk $command: status $s: $(head -c 300 "$scratch/out" "$scratch/err")"
+      fi
+    done
+    [ $ok = 1 ] && survived=$((survived + 1))
+  done
+  report tight_memory $survived "$tries"
+}
+
 resume_overrides() {
   local overrides=(--set 'lspi.max_iterations=15' --sweep 'kernels=32,48')
   local survived=0 try out signal delay pid command s
@@ -278,10 +376,10 @@ resume_overrides() {
 }
 
 case $class in
-kills | mpi_kills | hostile_shards | hostile_results | resume_overrides) $class ;;
-all) for c in kills mpi_kills hostile_shards hostile_results resume_overrides; do $c; done ;;
+kills | mpi_kills | hostile_shards | hostile_results | hostile_lengths | tight_memory | resume_overrides) $class ;;
+all) for c in kills mpi_kills hostile_shards hostile_results hostile_lengths tight_memory resume_overrides; do $c; done ;;
 *)
-  echo "stress_kills.sh: unknown class '$class' (kills, mpi_kills, hostile_shards, hostile_results, resume_overrides, all)" >&2
+  echo "stress_kills.sh: unknown class '$class' (kills, mpi_kills, hostile_shards, hostile_results, hostile_lengths, tight_memory, resume_overrides, all)" >&2
   exit 2
   ;;
 esac

@@ -2,9 +2,31 @@
 
 #include <hdf5.h>
 
+#include <sys/resource.h>
+
 #include <algorithm>
+#include <atomic>
+#include <new>
 #include <optional>
 #include <stdexcept>
+
+#include "engine/hdf5/allocation_failures.hpp"
+
+namespace ggk::engine {
+
+namespace {
+std::atomic<AllocationFailure> g_allocation_failures{AllocationFailure::kOutOfMemory};
+}  // namespace
+
+void set_allocation_failures(AllocationFailure meaning) {
+  g_allocation_failures = meaning;
+}
+
+AllocationFailure allocation_failures() {
+  return g_allocation_failures;
+}
+
+}  // namespace ggk::engine
 
 namespace ggk::engine::hdf5_internals {
 
@@ -54,10 +76,43 @@ void disable_automatic_error_printing() {
   }
 }
 
+namespace {
+
+bool contains(const std::string& text, std::string_view part) {
+  return text.find(part) != std::string::npos;
+}
+
+// A description of a failed memory allocation (allocation_failures.hpp); not
+// "unable to allocate file memory", which is space in the file.
+bool is_allocation_failure(const std::string& description) {
+  if (contains(description, "memory allocation failed") ||
+      contains(description, "memory reallocation failed") ||
+      contains(description, "unable to allocate memory")) {
+    return true;
+  }
+  if (!contains(description, "inflate() failed") &&
+      !contains(description, "inflateInit() failed")) {
+    return false;
+  }
+  rlimit limit{};
+  return ::getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY;
+}
+
+}  // namespace
+
 std::string take_hdf5_reason() {
   std::vector<std::string> descriptions;
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, collect_error_description, &descriptions);
   H5Eclear2(H5E_DEFAULT);
+  const bool allocation =
+      std::any_of(descriptions.begin(), descriptions.end(),
+                  [](const std::string& d) { return is_allocation_failure(d); });
+  if (allocation) {
+    if (allocation_failures() == AllocationFailure::kOutOfMemory) throw std::bad_alloc();
+    descriptions.emplace_back(
+        "an allocation failed within the room ggk allows for reading this file: a size in it "
+        "is damaged");
+  }
   if (descriptions.empty()) return "HDF5 gave no reason";
   std::string reason = descriptions.front();
   if (descriptions.size() > 1) {

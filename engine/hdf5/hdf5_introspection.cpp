@@ -171,6 +171,17 @@ Hdf5File::Values attribute_values(const Context& where, hid_t attribute, const s
     values.type = describe_type(type.get());
     return values;
   }
+  // An attribute's values are stored in the file (its object header, or the
+  // dense attribute storage), so they fit in it: a damaged shape is an error
+  // here, not an allocation of gigabytes.
+  const double claimed = static_cast<double>(count) * static_cast<double>(H5Tget_size(type.get()));
+  hsize_t file_size = 0;
+  if (H5Fget_filesize(where.file, &file_size) >= 0 && claimed > static_cast<double>(file_size)) {
+    throw_store_error(where.file_path, object,
+                      "attribute " + single_quoted(name) + " claims " + std::to_string(count) +
+                          " elements (" + std::to_string(static_cast<long long>(claimed)) +
+                          " bytes), more than the whole file holds: its shape or type is damaged");
+  }
   read_canonical(
       where, object, type.get(), count,
       [&](hid_t memory_type, void* buffer) {

@@ -46,4 +46,11 @@ double reserved_address_space(std::int32_t compute_threads) {
          per_thread;
 }
 
+std::string address_space_limit_words() {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return "";
+  return " under the address-space limit of " +
+         std::to_string(static_cast<long long>(limit.rlim_cur / 1000000)) + " MB (ulimit -v)";
+}
+
 }  // namespace ggk::engine

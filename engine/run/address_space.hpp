@@ -12,6 +12,7 @@
 // limit (memory_check.hpp). Thread-safe: no state.
 
 #include <cstdint>
+#include <string>
 
 namespace ggk::engine {
 
@@ -30,5 +31,9 @@ void restart_without_blas_pool(char** argv);
 // writer thread an arena and a stack. Measured: jobs/ci.toml's VmPeak is 371 MB at
 // -j 1 and 572 MB at -j 2 (~200 MB a thread), for a 5 MB estimate per run.
 double reserved_address_space(std::int32_t compute_threads);
+
+// " under the address-space limit of 120 MB (ulimit -v)" when RLIMIT_AS is
+// finite, else "": what a message about a failed allocation adds.
+std::string address_space_limit_words();
 
 }  // namespace ggk::engine

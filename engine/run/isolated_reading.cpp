@@ -1,6 +1,7 @@
 #include "engine/run/isolated_reading.hpp"
 
 #include <fcntl.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,6 +14,7 @@
 
 #include "engine/job/job_error.hpp"
 #include "engine/run/job_runner.hpp"
+#include "engine/run/reading_memory_cap.hpp"
 #include "engine/store/results_verify.hpp"
 
 namespace ggk::engine {
@@ -59,6 +61,25 @@ void write_report(int fd, const std::string& kind, const std::string& message) {
   ::_exit(status);
 }
 
+// The child is a reader, not `ggk run`: a stop signal ends it plainly (the
+// parent's handler, stop_signals.hpp, is the parent's: the child must not remove
+// the parent's lock or print its resume command), and it dies with the thread
+// that forked it (a SIGTERM or SIGKILL sent to the parent's pid alone would
+// otherwise leave it reading on as an orphan).
+void become_reader_child(pid_t parent) {
+  for (const int signal : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction current {};
+    ::sigaction(signal, nullptr, &current);
+    if (current.sa_handler == SIG_IGN) continue;  // an inherited SIG_IGN stays
+    struct sigaction plain {};
+    plain.sa_handler = SIG_DFL;
+    sigemptyset(&plain.sa_mask);
+    ::sigaction(signal, &plain, nullptr);
+  }
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (::getppid() != parent) ::_exit(1);  // the parent died before prctl
+}
+
 std::string signal_words(int signal) {
   const char* name = sigabbrev_np(signal);
   const char* description = strsignal(signal);
@@ -77,6 +98,7 @@ ChildEnd run_in_child(const std::function<int()>& work) {
   if (::pipe2(fds, O_CLOEXEC) != 0) {
     throw std::runtime_error(std::string("cannot make a pipe: ") + std::strerror(errno));
   }
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     const int error = errno;
@@ -86,6 +108,7 @@ ChildEnd run_in_child(const std::function<int()>& work) {
   }
   if (pid == 0) {
     ::close(fds[0]);
+    become_reader_child(parent);
     child_main(fds[1], work);
   }
   ::close(fds[1]);
@@ -152,7 +175,9 @@ ReadingCrash::ReadingCrash(const std::string& file, const ChildEnd& end)
       how_(ending_words(end)) {}
 
 ChildEnd read_whole_in_child(const std::filesystem::path& file) {
+  const ReadingRoom room = ReadingRoom::for_files({file});
   return run_in_child([&] {
+    const ReadingMemoryCap cap(room);
     std::ostream quiet(nullptr);
     try {
       verify_results(file, quiet);
@@ -176,11 +201,32 @@ std::string crashing_file(const std::vector<std::filesystem::path>& files) {
   return "one of " + names;
 }
 
+std::string names_of(const std::vector<std::filesystem::path>& files) {
+  std::string names;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    names += (i == 0 ? "" : i + 1 == files.size() ? " or " : ", ") + files[i].string();
+  }
+  return names;
+}
+
 }  // namespace
 
 int read_isolated(const std::vector<std::filesystem::path>& files, const std::function<int()>& work,
                   const std::function<void(pid_t)>& after_crash) {
-  const ChildEnd end = run_in_child(work);
+  const ReadingRoom room = ReadingRoom::for_files(files);
+  const ChildEnd end = run_in_child([&] {
+    const ReadingMemoryCap cap(room);
+    return work();
+  });
+  if (crashed(end) && room.user_limit_binds) {
+    // HDF5 does not survive every failed allocation: under the user's tight
+    // limit a crash says nothing about the file.
+    if (after_crash) after_crash(end.pid);
+    throw UsageError("reading " + names_of(files) + " crashed (" + ending_words(end) + ") under " +
+                     room.limit_words(names_of(files)) +
+                     ": HDF5 fails so when memory runs out; raise the limit (or lift it) to "
+                     "read the file, or to tell whether it is damaged");
+  }
   if (crashed(end)) {
     if (after_crash) after_crash(end.pid);
     throw ReadingCrash(crashing_file(files), end);
@@ -191,14 +237,13 @@ int read_isolated(const std::vector<std::filesystem::path>& files, const std::fu
     std::raise(end.signal);
     std::_Exit(128 + end.signal);
   }
+  if (end.error_kind == "memory" && room.user_limit_binds) {
+    throw UsageError("not enough memory to read " + names_of(files) + " under " +
+                     room.limit_words(names_of(files)) + ": raise the limit (or lift it)");
+  }
   if (end.error_kind == "memory") {
-    std::string names;
-    for (std::size_t i = 0; i < files.size(); ++i) {
-      names += (i == 0 ? "" : i + 1 == files.size() ? " or " : ", ") + files[i].string();
-    }
-    throw UsageError("not enough memory to read " + names +
-                     ": it holds a size larger than this machine can allocate (a damaged file? "
-                     "`ggk verify FILE` names the object)");
+    throw UsageError("not enough memory to read " + names_of(files) +
+                     ": this machine could not allocate what reading it takes");
   }
   if (end.error_kind == "usage") throw UsageError(end.message);
   if (end.error_kind == "run") throw RunFailure(end.message);

@@ -24,15 +24,18 @@ JobWriter::JobWriter(const Study& study, const RunOptions& options, OpenedResult
       target_(std::move(opened.target)),
       go_on_(
           go_on_text(study.job(), options, target_.output(), mode == StopSignals::Mode::kRecord)),
-      stop_signals_(mode, stop_report(target_, go_on_)),
+      stop_signals_(std::move(opened.stop_signals)),
       progress_(std::in_place, runs_to_write,
                 static_cast<std::int32_t>(expand_points(study.configurations.front()).size()),
                 options.quiet),
       writer_(std::move(opened.file), StoreWriter::kDefaultQueueCapacity,
-              StoreWriter::WhenIdle::kCloseForReaders) {}
+              StoreWriter::WhenIdle::kCloseForReaders) {
+  stop_signals_->set_mode(mode);
+  stop_signals_->set_report(stop_report(target_, go_on_));
+}
 
 void JobWriter::committed() {
-  stop_signals_.results_published();
+  stop_signals_->results_published();
   written_.fetch_add(1);
   progress_->run_done();
 }
@@ -75,7 +78,7 @@ void JobWriter::finish() {
     target_.publish(file);
   });
   writer_.close();
-  stop_signals_.job_complete();
+  stop_signals_->job_complete();
 }
 
 }  // namespace ggk::engine

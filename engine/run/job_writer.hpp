@@ -3,15 +3,13 @@
 // finished run reaches a job's results file, and how the job ends there.
 //
 // A JobWriter takes over what open_results opened (the lock, the file, its
-// .part name) and owns the store's writer thread, the progress display and the
-// stop signals (stop_signals.hpp). commit() queues a run computed here,
-// commit_image() one computed by another MPI rank (an in-memory HDF5 image,
-// store/run_store.hpp); the writer thread writes it whole and marks it
-// complete, gives a new file the output's name with its first run, tells the
-// stop signals so, and advances the progress. finish() waits for every queued
-// run, closes the progress display, rewrites the summary in run order and
-// closes the file. A failed write makes the writer fail (store_writer.hpp):
-// commit(), wait() and finish() rethrow it.
+// .part name, the stop signals' handler) and owns the store's writer thread, the progress display
+// and the stop signals (stop_signals.hpp). commit() queues a run computed here, commit_image() one
+// computed by another MPI rank (an in-memory HDF5 image, store/run_store.hpp); the writer thread
+// writes it whole and marks it complete, gives a new file the output's name with its first run,
+// tells the stop signals so, and advances the progress. finish() waits for every queued run, closes
+// the progress display, rewrites the summary in run order and closes the file. A failed write makes
+// the writer fail (store_writer.hpp): commit(), wait() and finish() rethrow it.
 //
 // Thread-safety: commit(), commit_image(), written() and failed() may be called
 // from any threads but the writer's; finish() and the destructor from one.
@@ -58,7 +56,7 @@ class JobWriter {
   std::int32_t written() const { return written_.load(); }
   const ResultsTarget& target() const { return target_; }
   const GoOnText& go_on() const { return go_on_; }
-  const StopSignals& stop_signals() const { return stop_signals_; }
+  const StopSignals& stop_signals() const { return *stop_signals_; }
 
   // Waits for the queued runs, writes the summary, closes the file.
   void finish();
@@ -69,7 +67,7 @@ class JobWriter {
   const Study& study_;
   ResultsTarget target_;  // before writer_: the lock outlives the file
   const GoOnText go_on_;
-  StopSignals stop_signals_;
+  std::unique_ptr<StopSignals> stop_signals_;  // open_results's, aimed at this job's texts
   std::atomic<std::int32_t> written_{0};
   std::optional<Progress> progress_;
   StoreWriter writer_;  // last: its thread stops before the rest goes

@@ -634,7 +634,7 @@ int run_job_over_mpi(const MpiSession& session, const std::filesystem::path& job
   if (rank == 0) {
     const Outcome outcome = attempt([&] {
       check_study_memory(*study, options.run);  // before the output is created or touched
-      opened.emplace(open_results(*study, options.run));
+      opened.emplace(open_results(*study, options.run, /*under_mpi=*/true));
       print_notes(opened->notes);  // as run_study does: a salvaged file, a grown one
       if (!options.run.quiet) print_notes(opened->info);
     });

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <set>
 #include <stdexcept>
 #include <system_error>
@@ -19,6 +20,8 @@
 #include "engine/job/usage_error.hpp"
 #include "engine/run/isolated_reading.hpp"
 #include "engine/run/job_runner.hpp"
+#include "engine/run/reading_memory_cap.hpp"
+#include "engine/run/resume_command.hpp"
 #include "engine/run/salvage_results.hpp"
 #include "engine/store/one_line.hpp"
 #include "engine/store/results_layout.hpp"
@@ -547,7 +550,7 @@ void ResultsTarget::publish(Hdf5File& file) {
   file.renamed_to(output_);
 }
 
-OpenedResults open_results(const Study& study, const RunOptions& options) {
+OpenedResults open_results(const Study& study, const RunOptions& options, bool under_mpi) {
   const JobSpec& job = study.job();
   const fs::path output = options.output.empty() ? job.output.file : options.output;
   if (options.runs && (options.runs->first < 0 || options.runs->first >= options.runs->last ||
@@ -566,6 +569,7 @@ OpenedResults open_results(const Study& study, const RunOptions& options) {
         " exists: pass --resume to continue it, or --overwrite to replace it (deleting "
         "its complete runs)");
   }
+  std::optional<ResultsTarget> target;  // before the lock and the stop signals: outlives both
   OutputLock lock = OutputLock::acquire(output);
   // Under the lock: what a dead ggk left is ours to clear, and the output is
   // looked at again (it may have appeared while we waited for nothing).
@@ -575,24 +579,43 @@ OpenedResults open_results(const Study& study, const RunOptions& options) {
                      temporary.string() + ": " + std::strerror(errno));
   }
   state = output_state(output);
+  // From here a stop signal removes the lock (and a .part) and prints how to go
+  // on, while a resumed file is read back too; the runner's JobWriter takes the
+  // handler over (stop_signals.hpp). Destroyed before the lock is released.
+  const bool resuming = state == OutputState::kFile && options.resume;
+  const GoOnText go_on = go_on_text(job, options, output, under_mpi);
+  auto stop_signals = std::make_unique<StopSignals>(
+      StopSignals::Mode::kStopInHandler,
+      StopSignals::Report{output, resuming ? fs::path() : temporary, OutputLock::path_for(output),
+                          go_on.published, go_on.unpublished});
 
   std::vector<std::vector<std::int32_t>> complete;  // per configuration
   std::vector<std::string> notes, info;
-  std::optional<ResultsTarget> target;
   std::optional<Hdf5File> file;
   std::optional<std::string> damage;  // why the file cannot be resumed in place
   bool crashes = false;               // reading the file crashes the HDF5 library: copy nothing
-  if (state == OutputState::kFile && options.resume) {
+  if (resuming) {
     // Read whole in a child first (isolated_reading.hpp): a file whose damage
     // crashes HDF5 is never read here, where a crash would leave the lock.
     const ChildEnd vetted = read_whole_in_child(output);  // resume() reports its damage
+    const ReadingRoom room = ReadingRoom::for_files({output});
+    if (crashed(vetted) && room.user_limit_binds) {  // says nothing about the file
+      throw UsageError("reading " + output.string() + " back crashed (" + ending_words(vetted) +
+                       ") under " + room.limit_words(output.string()) +
+                       ": HDF5 fails so when memory runs out; raise the limit (or lift it) and "
+                       "resume again; the file is as it was");
+    }
     if (crashed(vetted)) {
       crashes = true;
       damage = "reading it crashed the HDF5 library (" + ending_words(vetted) +
                "): an object header is damaged where HDF5 does not check";
     }
   }
-  if (state == OutputState::kFile && options.resume && !crashes) {
+  // The reading back (resume, salvage) in this process too bounds its address
+  // space (reading_memory_cap.hpp): no computing thread exists yet.
+  std::optional<ReadingMemoryCap> reading_cap;
+  if (resuming) reading_cap.emplace(ReadingRoom::for_files({output}));
+  if (resuming && !crashes) {
     try {
       file.emplace(resume(study, options, output, complete, notes, info));
     } catch (const UsageError&) {
@@ -622,7 +645,8 @@ OpenedResults open_results(const Study& study, const RunOptions& options) {
     target.emplace(output, temporary, std::move(lock));  // removes the .part on failure
     file.emplace(create_new(study, options, temporary));
   }
-  OpenedResults opened{std::move(*target), std::move(*file), {}, 0,
+  reading_cap.reset();
+  OpenedResults opened{std::move(*target), std::move(stop_signals), std::move(*file), {}, 0,
                        std::move(notes),   std::move(info)};
   opened.file.set_gzip_level(job.output.compression);
   const std::int32_t first = options.runs ? options.runs->first : 0;

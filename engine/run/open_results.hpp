@@ -20,12 +20,17 @@
 //    its whole runs are copied into a new "<output>.part", which replaces it
 //    with its first write, and the damaged file is kept as <stem>.damaged.h5
 //    (salvage_results.hpp);
+//  - from the moment the lock is held, a SIGINT, SIGTERM or SIGHUP removes the
+//    lock and prints the command that goes on, as in the rest of `run` (also
+//    while --resume reads its output back, which takes ~0.2 s per MB; the
+//    reading child dies with its parent: isolated_reading.hpp);
 //  - an output that exists without --resume or --overwrite, is not a regular
 //    file, or is another job's, is a UsageError (exit status 2) and is left as
 //    it was.
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,6 +38,7 @@
 #include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_spec.hpp"
 #include "engine/job/study.hpp"
+#include "engine/run/stop_signals.hpp"
 #include "engine/store/output_lock.hpp"
 
 namespace ggk::engine {
@@ -73,6 +79,9 @@ class ResultsTarget {
 
 struct OpenedResults {
   ResultsTarget target;  // declared first: outlives the file
+  // Installed once the lock is held (stop_signals.hpp); the JobWriter takes it
+  // over. After the target: gone before the lock is released.
+  std::unique_ptr<StopSignals> stop_signals;
   Hdf5File file;
   // Runs still to compute, configuration by configuration, each ascending.
   std::vector<WorkUnit> pending;
@@ -83,7 +92,8 @@ struct OpenedResults {
 
 // A study's file (a plain job: study_of(job)): its configurations' groups, and
 // its units; --runs selects the same runs of every configuration.
-OpenedResults open_results(const Study& study, const RunOptions& options);
+// under_mpi: the resume command a stop signal prints is the MPI one (rank 0).
+OpenedResults open_results(const Study& study, const RunOptions& options, bool under_mpi = false);
 
 // The version of this ggk and the `git describe` of its source when it was
 // configured: what every results file records (ggk_version, git).

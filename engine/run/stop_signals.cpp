@@ -11,16 +11,23 @@ namespace ggk::engine {
 
 namespace {
 
-// Everything the handler touches: fixed buffers filled before it is installed.
+// Everything the handler touches: fixed buffers filled before it reads them.
+// Two sets: set_report fills the one the handler does not read, then switches
+// (g_active), so a signal sees one report whole, the old one or the new.
 constexpr std::size_t kPathSize = 4096;
 constexpr std::size_t kMessageSize = 4 * kPathSize;
-char g_temporary[kPathSize];
-char g_lock[kPathSize];
-char g_message_published[kMessageSize];
-char g_message_unpublished[kMessageSize];
-char g_message_complete[kMessageSize];
+struct ReportBuffers {
+  char temporary[kPathSize];
+  char lock[kPathSize];
+  char message_published[kMessageSize];
+  char message_unpublished[kMessageSize];
+  char message_complete[kMessageSize];
+  volatile sig_atomic_t published;  // the report's own: its temporary was empty
+};
+ReportBuffers g_reports[2];
+volatile sig_atomic_t g_active = 0;
 volatile sig_atomic_t g_has_report = 0;
-volatile sig_atomic_t g_published = 0;
+volatile sig_atomic_t g_published = 0;  // results_published() since the last report
 volatile sig_atomic_t g_complete = 0;
 volatile sig_atomic_t g_record_only = 0;
 volatile sig_atomic_t g_received = 0;
@@ -40,13 +47,15 @@ void write_text(const char* text) {
 // The one stop path, async-signal-safe: the files, then the message.
 void remove_files_and_report(const char* headline, const char* details) {
   if (g_has_report == 0) return;
-  if (g_published == 0 && g_complete == 0) ::unlink(g_temporary);
-  ::unlink(g_lock);
+  const ReportBuffers& report = g_reports[g_active];
+  const bool published = g_published != 0 || report.published != 0;
+  if (!published && g_complete == 0) ::unlink(report.temporary);
+  ::unlink(report.lock);
   write_text("\nggk: ");
   write_text(headline);
-  write_text(g_complete != 0    ? g_message_complete
-             : g_published != 0 ? g_message_published
-                                : g_message_unpublished);
+  write_text(g_complete != 0 ? report.message_complete
+             : published     ? report.message_published
+                             : report.message_unpublished);
   write_text(details);
 }
 
@@ -96,17 +105,30 @@ StopSignals::StopSignals(Mode mode) {
 }
 
 StopSignals::StopSignals(Mode mode, const Report& report) : StopSignals(mode) {
-  // Filled while the handler may already run: it reads them only once
-  // g_has_report is set, last.
-  copy(g_temporary, kPathSize, report.temporary.string());
-  copy(g_lock, kPathSize, report.lock_file.string());
-  copy(g_message_published, kMessageSize, "; " + report.published + "\n");
-  copy(g_message_unpublished, kMessageSize,
+  set_report(report);
+}
+
+void StopSignals::set_report(const Report& report) {
+  const int next = g_has_report != 0 ? 1 - g_active : g_active;
+  ReportBuffers& buffers = g_reports[next];
+  copy(buffers.temporary, kPathSize, report.temporary.string());
+  copy(buffers.lock, kPathSize, report.lock_file.string());
+  copy(buffers.message_published, kMessageSize, "; " + report.published + "\n");
+  copy(buffers.message_unpublished, kMessageSize,
        " before its first run was written; " + report.unpublished + "\n");
-  copy(g_message_complete, kMessageSize,
+  copy(buffers.message_complete, kMessageSize,
        " after the job ended; every run is complete: results in " + report.output.string() + "\n");
-  g_published = report.temporary.empty() ? 1 : 0;
+  buffers.published = report.temporary.empty() ? 1 : 0;
+  // The handler reads the buffers only once g_has_report is set, and the set
+  // g_active names, which is switched last.
+  std::atomic_signal_fence(std::memory_order_seq_cst);
+  g_active = next;
+  g_published = 0;
   g_has_report = 1;
+}
+
+void StopSignals::set_mode(Mode mode) {
+  g_record_only = mode == Mode::kRecord ? 1 : 0;
 }
 
 StopSignals::~StopSignals() {

@@ -9,6 +9,9 @@
 //    (resume_command.hpp: go_on_text), and any details the runner adds;
 //  - ends with status 128 + signal.
 // After job_complete() (the summary is written) it says so and names the results.
+// open_results installs it as soon as it holds the output's lock (a resume's
+// reading back of its output is a phase of `run` like any other) and the runner's
+// JobWriter takes it over (set_report), so no moment of `run` lacks it.
 //
 // kStopInHandler (a single process): the handler does all of it,
 // async-signal-safe (unlink and write of buffers filled beforehand), then dies
@@ -43,6 +46,13 @@ class StopSignals {
   ~StopSignals();
   StopSignals(const StopSignals&) = delete;
   StopSignals& operator=(const StopSignals&) = delete;
+
+  // Aims the handler at another report (a runner taking over the instance
+  // open_results installed while it read the output back): a signal sees the old
+  // report or the new one, whole. Clears results_published().
+  void set_report(const Report& report);
+  // Switches between handling a stop in the handler and recording it.
+  void set_mode(Mode mode);
 
   // The results file has its name (its first run landed): from now on a stop
   // keeps it and says how to resume it.

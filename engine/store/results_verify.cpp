@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "engine/hdf5/allocation_failures.hpp"
 #include "engine/job/usage_error.hpp"
 #include "engine/store/one_line.hpp"
 #include "engine/store/results_layout.hpp"
@@ -82,8 +83,13 @@ struct Walk {
       }
     } catch (const std::runtime_error& e) {
       problems.push_back(path + ": " + one_line(e.what()));
-    } catch (const std::bad_alloc&) {  // a size no header of ggk's claims
-      problems.push_back(path + ": claims more memory than there is (its size is damaged)");
+    } catch (const std::bad_alloc&) {
+      // Within the room a reader allows itself, a size no file of this size
+      // holds; beyond it, the memory ran out (hdf5/allocation_failures.hpp).
+      if (allocation_failures() != AllocationFailure::kDamage) throw;
+      problems.push_back(
+          path +
+          ": claims more memory than a file of this size can hold (a size in it is damaged)");
     }
   }
 };

@@ -32,6 +32,9 @@
 #                  printed command, pasted into a shell, finishes to the
 #                  reference results; before the first run lands, --overwrite's
 #                  printed command is said to delete the old results
+#   interrupt_reading SIGTERM to ggk, or SIGINT to its process group, while
+#                  --resume reads its output back: the same resume command, no
+#                  lock left, the file as it was, the reading child ended too
 # Environment: GGK (the binary), GGK_SOURCE_DIR.
 set -euo pipefail
 case_name=$1
@@ -458,6 +461,47 @@ interrupt)
   wait $pid || fail "a SIGINT stopped a ggk that inherited it ignored: $(cat "$scratch/err")"
   "$GGK" diff "$scratch/reference.h5" "$scratch/ignored.h5" >/dev/null ||
     fail "the job that ignored SIGINT differs"
+  ;;
+interrupt_reading)
+  # --resume reads its output back first (in a child, ~0.1 s per MB; 44 s for a
+  # 197 MB file): a SIGTERM to ggk alone, or a SIGINT to its process group (as
+  # Ctrl-C sends) then, ends it as in any other phase: the resume command, the
+  # lock removed, the file as it was, and the reading child gone with it (stop
+  # 41's campaign, F3: only "^C", the lock left, the child reading on).
+  write_job "$scratch/job.toml" 16
+  reference "$scratch/job.toml" "$scratch/reference.h5"
+  for signal in TERM INT; do
+    out=$scratch/r-$signal.h5
+    cp "$scratch/reference.h5" "$out"
+    caught=
+    for try in 1 2 3 4 5; do  # the reading lasts ~0.5 s: catch the child in it
+      set -m
+      "$GGK" run "$scratch/job.toml" -j 1 --resume -o "$out" 2>"$scratch/err" & pid=$!
+      set +m
+      child=
+      for _ in $(seq 500); do
+        child=$(pgrep -P $pid || true)
+        [ -n "$child" ] && break
+        kill -0 $pid 2>/dev/null || break
+        sleep 0.005
+      done
+      if [ -z "$child" ]; then wait $pid || true; continue; fi
+      if [ $signal = TERM ]; then kill -TERM $pid; else kill -INT -- -$pid; fi
+      s=0; wait $pid || s=$?
+      want=$([ $signal = INT ] && echo 130 || echo 143)
+      [ "$s" = "$want" ] || fail "SIG$signal while reading: status $s (expected $want): $(cat "$scratch/err")"
+      caught=yes
+      break
+    done
+    [ -n "$caught" ] || fail "the reading child was never seen (5 tries)"
+    grep -q "SIG$signal.*; every run written to $out is complete; finish the job with" "$scratch/err" ||
+      fail "SIG$signal while reading: no resume command: $(cat "$scratch/err")"
+    [ ! -e "$out.lock" ] || fail "lock file left after SIG$signal while reading"
+    for _ in $(seq 100); do kill -0 "$child" 2>/dev/null || break; sleep 0.02; done
+    ! kill -0 "$child" 2>/dev/null || fail "the reading child $child outlived ggk (SIG$signal)"
+    cmp -s "$out" "$scratch/reference.h5" || fail "SIG$signal while reading changed the file"
+    resume_and_compare "$scratch/err" "$scratch/reference.h5" "$out"
+  done
   ;;
 *)
   fail "unknown case $case_name"
