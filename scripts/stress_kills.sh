@@ -27,6 +27,11 @@
 #   tight_memory     info, verify and diff of a whole file under ulimit -v of
 #                    108..140 MB: read, or "not enough memory" (exit 2); never
 #                    DAMAGED, never a crash
+#   reading_stops    SIGTERM to ggk, or SIGINT to its group, while --resume reads
+#                    its output back: the resume command printed, no lock, the
+#                    file as it was, no reading child left; it then finishes
+#   open_readers     an h5py handle open on the file while --resume starts: the
+#                    resume finishes to the reference
 #   resume_overrides a job with --set and --sweep overrides stopped by SIGINT or
 #                    SIGTERM; the resume command ggk printed, pasted into a
 #                    shell, finishes to the overridden job's reference
@@ -335,6 +340,81 @@ tight_memory() {
   report tight_memory $survived "$tries"
 }
 
+# F3: SIGTERM to ggk alone, or SIGINT to its process group, while --resume
+# reads its output back (in a child): the resume command is printed, no lock is
+# left, the file is as it was, no reading child outlives ggk, and the printed
+# command finishes the job.
+reading_stops() {
+  local survived=0 try out signal pid child s ok
+  for try in $(seq "$tries"); do
+    out=$scratch/s$try.h5
+    cp "$reference" "$out"
+    signal=$([ $((RANDOM % 2)) = 0 ] && echo INT || echo TERM)
+    set -m
+    "$ggk" run "$scratch/job.toml" -j 2 --resume -o "$out" 2>"$scratch/err" &
+    pid=$!
+    set +m
+    child=
+    for _ in $(seq 400); do  # the reading child, within 2 s
+      child=$(pgrep -P $pid || true)
+      [ -n "$child" ] && break
+      sleep 0.005
+    done
+    sleep "0.0$((RANDOM % 10))"
+    if [ $signal = TERM ]; then kill -TERM $pid 2>/dev/null; else kill -INT -- -$pid 2>/dev/null; fi
+    s=0
+    wait $pid 2>/dev/null || s=$?
+    ok=1
+    if [ $s = 0 ]; then
+      :  # the reading ended before the signal: the job was already complete
+    elif ! grep -q "finish the job with" "$scratch/err"; then
+      ok="no resume command: $(head -c 300 "$scratch/err")"
+    elif [ -e "$out.lock" ]; then
+      ok="the lock was left"
+    elif ! cmp -s "$out" "$reference"; then
+      ok="the file changed"
+    fi
+    sleep 0.2  # a zombie (dead, its new parent has not reaped it yet) is no reader
+    if [ -n "$child" ] && kill -0 "$child" 2>/dev/null &&
+      [[ "$(ps -o stat= -p "$child" 2>/dev/null)" != Z* ]]; then
+      ok="the reading child $child outlived ggk"
+    fi
+    finished_equal "$out" || ok="the resume did not finish equal: $(head -c 300 "$scratch/err")"
+    if [ "$ok" = 1 ]; then
+      survived=$((survived + 1))
+    else
+      echo "reading_stops try $try (SIG$signal, status $s): LOST: $ok"
+    fi
+    rm -f "$out" "$out".*
+  done
+  report reading_stops $survived "$tries"
+}
+
+# F5: a reader holding the file open (h5py, as a notebook does) while --resume
+# starts: the resume goes on (HDF5's own file lock gives way to ggk's lock).
+open_readers() {
+  local survived=0 try out reader
+  for try in $(seq "$tries"); do
+    out=$scratch/o$try.h5
+    "$ggk" run "$scratch/job.toml" -j 2 -q --runs 0:$((1 + RANDOM % 6)) -o "$out" 2>/dev/null
+    /usr/bin/python3 -c 'import h5py, sys, time
+f = h5py.File(sys.argv[1], "r")
+time.sleep(30)' "$out" &
+    reader=$!
+    sleep 1
+    if timeout "$limit" "$ggk" run "$scratch/job.toml" -j 2 -q --resume -o "$out" 2>"$scratch/err" &&
+      "$ggk" diff "$reference" "$out" >/dev/null; then
+      survived=$((survived + 1))
+    else
+      echo "open_readers try $try: LOST: $(head -c 400 "$scratch/err")"
+    fi
+    kill $reader 2>/dev/null || true
+    wait $reader 2>/dev/null || true
+    rm -f "$out" "$out".*
+  done
+  report open_readers $survived "$tries"
+}
+
 resume_overrides() {
   local overrides=(--set 'lspi.max_iterations=15' --sweep 'kernels=32,48')
   local survived=0 try out signal delay pid command s
@@ -376,10 +456,10 @@ resume_overrides() {
 }
 
 case $class in
-kills | mpi_kills | hostile_shards | hostile_results | hostile_lengths | tight_memory | resume_overrides) $class ;;
-all) for c in kills mpi_kills hostile_shards hostile_results hostile_lengths tight_memory resume_overrides; do $c; done ;;
+kills | mpi_kills | hostile_shards | hostile_results | hostile_lengths | tight_memory | reading_stops | open_readers | resume_overrides) $class ;;
+all) for c in kills mpi_kills hostile_shards hostile_results hostile_lengths tight_memory reading_stops open_readers resume_overrides; do $c; done ;;
 *)
-  echo "stress_kills.sh: unknown class '$class' (kills, mpi_kills, hostile_shards, hostile_results, hostile_lengths, tight_memory, resume_overrides, all)" >&2
+  echo "stress_kills.sh: unknown class '$class' (kills, mpi_kills, hostile_shards, hostile_results, hostile_lengths, tight_memory, reading_stops, open_readers, resume_overrides, all)" >&2
   exit 2
   ;;
 esac

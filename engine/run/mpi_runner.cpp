@@ -312,6 +312,10 @@ class Coordinator {
   void assign_or_stop(int rank);
   void receive(const MPI_Status& status);
   void stop_for_signal();
+  // The active workers of this host whose process is gone (dead or a zombie).
+  std::set<int> gone_workers_on_this_host() const;
+  // "rank 1 (holding run 3), rank 2": ranks with the runs they hold.
+  std::string ranks_words(const std::set<int>& ranks) const;
   [[noreturn]] void stop_now(const std::string& headline, int exit_status);
   void report_stop(const std::string& headline);
   std::string runs_in_flight() const;
@@ -486,9 +490,44 @@ void Coordinator::release_stopped_workers() {
 // and its process is still alive (process_alive): then it is slow, not dead, and
 // rank 0 waits for its report up to kSlowWorkerWait longer. When nothing is lost (every
 // run written or queued) at the signal, the job ends normally instead.
+std::set<int> Coordinator::gone_workers_on_this_host() const {
+  std::set<int> gone;
+  for (const int rank : active_) {
+    const auto process = processes_.find(rank);
+    if (process != processes_.end() && process->second.host == host_ &&
+        !process_alive(process->second.pid)) {
+      gone.insert(rank);
+    }
+  }
+  return gone;
+}
+
+std::string Coordinator::ranks_words(const std::set<int>& ranks) const {
+  std::string words;
+  for (const int rank : ranks) {
+    const auto held = held_.find(rank);
+    words += (words.empty() ? "" : ", ") + std::string("rank ") + std::to_string(rank) +
+             (held != held_.end() && held->second.run >= 0
+                  ? " (holding " +
+                        unit_words(study_, {held->second.configuration, held->second.run}) + ")"
+                  : std::string());
+  }
+  return words;
+}
+
 void Coordinator::stop_for_signal() {
   if (!stop_reported_) {
     stop_reported_ = true;
+    // A worker of this host whose process is already gone died before the
+    // signal, which is then mpirun's answer to its death: named at once, since
+    // mpirun's SIGKILL may end this process before the wait below does (stop
+    // 41's campaign, F11: a killed rank 1 was reported as "stopped by SIGTERM").
+    if (const std::string dead = ranks_words(gone_workers_on_this_host()); !dead.empty()) {
+      report_stop(std::string("error: ") + dead + " died or was killed, and mpirun then sent " +
+                  StopSignals::name_of(stop_signal_) + " to every rank");
+      release_stopped_workers();
+      std::_Exit(1);
+    }
     report_stop(std::string(StopSignals::headline_of(stop_signal_)) +
                 (stop_signal_ == SIGTERM ? " (mpirun's, on a Ctrl-C, or a scheduler's)" : ""));
   }
@@ -509,15 +548,7 @@ void Coordinator::stop_for_signal() {
     }
   }
   if (slow_alive && Clock::now() < stop_deadline_ + kSlowWorkerWait) return;
-  std::string dead;
-  for (const int rank : unknown) {
-    const auto held = held_.find(rank);
-    dead += (dead.empty() ? "" : ", ") + std::string("rank ") + std::to_string(rank) +
-            (held != held_.end() && held->second.run >= 0
-                 ? " (holding " +
-                       unit_words(study_, {held->second.configuration, held->second.run}) + ")"
-                 : std::string());
-  }
+  const std::string dead = ranks_words(unknown);
   if (!dead.empty()) {
     std::fprintf(stderr,
                  "ggk: error: %s died or was killed: it did not answer the %s that mpirun then "

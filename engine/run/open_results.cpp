@@ -194,7 +194,9 @@ bool check_same_job(const Hdf5File& file, const Study& study, const fs::path& ou
         "; choose another output with -o, or --overwrite to replace it (deleting what it "
         "holds)");
   }
-  if (const std::string mismatch = layout_mismatch(header.layout); !mismatch.empty()) {
+  for (const std::string& mismatch :
+       {layout_mismatch(header.layout), rules_mismatch(header.rules)}) {
+    if (mismatch.empty()) continue;
     throw UsageError("cannot resume " + output.string() + ": " + mismatch +
                      "; write to another -o, or start it again with --overwrite (deleting its "
                      "complete runs)");
@@ -502,6 +504,18 @@ Hdf5File salvage(const Study& study, const RunOptions& options, const fs::path& 
                     "): nothing of it is copied, every run is computed again into a new file, "
                     "which replaces it with its first write. The damaged file stays as " +
                     kept.string() + " (delete it when you no longer need it)");
+    return std::move(*fresh);
+  }
+  if (count.lost_lists == 0 && count.copied == count.listed) {
+    // Every run group it lists was complete, read back whole and is in the new
+    // file: what else it held (a killed writer's staging, its summary) is
+    // computed again, so a copy of it would keep nothing (stop 41's campaign, F6).
+    ::unlink(kept.c_str());
+    notes.push_back(output.string() + " cannot be resumed in place (" + damage + "): its " +
+                    std::to_string(count.copied) +
+                    " complete runs all read back whole and were copied into a new file, which "
+                    "replaces it with its first write; nothing of it is lost, so no copy of it "
+                    "is kept");
     return std::move(*fresh);
   }
   notes.push_back(output.string() + " cannot be resumed in place (" + damage + "): its " +

@@ -54,6 +54,7 @@ std::vector<std::vector<std::int32_t>> copy_readable_runs(const Hdf5File& damage
       ++count.lost_lists;
       continue;
     }
+    count.listed += static_cast<std::int64_t>(listed.size());
     for (const std::int32_t run : listed) {
       const std::string group = run_group(location, run);
       bool whole = false;

@@ -10,7 +10,9 @@
 // complete and reads back whole (verify_run); the rest is computed again, and the
 // new file takes the output's name with its first write, as a new file does
 // (open_results.hpp). The damaged file is kept beside it under a new name (a hard
-// link made before anything is written), so nothing it held is lost.
+// link made before anything is written), so nothing it held is lost; when every
+// run it marked complete was copied whole, the link is removed again (the copy
+// would keep only what is computed again: a killed writer's unfinished run).
 // Not thread-safe: the caller holds the output's lock.
 
 #include <cstdint>
@@ -39,8 +41,10 @@ std::filesystem::path keep_damaged_aside(const std::filesystem::path& output);
 // or a configuration's run list that cannot be read is left out and counted in
 // `unreadable` (runs) and `lost_lists` (configurations whose list of runs could
 // not be read: all their runs are computed again).
+// `listed`: the run groups the readable lists hold (complete or not); every one
+// of them copied means nothing of the damaged file is lost.
 struct SalvageCount {
-  std::int64_t copied = 0, unreadable = 0, lost_lists = 0;
+  std::int64_t copied = 0, unreadable = 0, lost_lists = 0, listed = 0;
 };
 std::vector<std::vector<std::int32_t>> copy_readable_runs(const Hdf5File& damaged, Hdf5File& fresh,
                                                           const Study& study, SalvageCount& count);

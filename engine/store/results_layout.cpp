@@ -9,8 +9,8 @@ namespace ggk::engine {
 namespace {
 
 constexpr std::string_view kInputPrefix = "input:";
-constexpr std::array<std::string_view, 5> kProvenance = {"job_file", "git", "ggk_version", "blas",
-                                                         "runs_selected"};
+constexpr std::array<std::string_view, 6> kProvenance = {"job_file", "git",           "ggk_version",
+                                                         "blas",     "runs_selected", "rules"};
 
 // Reads the root attribute `name` with `read`; a missing one is an error when
 // `required`, else `fallback`. Every failure names the file and the attribute.
@@ -74,6 +74,7 @@ void write_results_header(Hdf5File& file, const ResultsHeader& header) {
   file.write_string_attribute("/", "created", header.created);
   file.write_string_attribute("/", "task", header.task);
   file.write_int64_attribute("/", "layout", header.layout);
+  file.write_int64_attribute("/", "rules", header.rules);
   write_runs_selected(file, header.runs_selected);
 }
 
@@ -104,6 +105,8 @@ ResultsHeader read_results_header(const Hdf5File& file) {
   header.job_sweeps = string_at(file, "job_sweeps", false);
   header.job_resolved = string_at(file, "job_resolved", false);
   header.layout = int64_at(file, "layout", false, 1);
+  header.rules = int64_at(file, "rules", false, 0);
+  if (header.rules == 0) header.rules = rules_of_unmarked_file(header.git);
   header.runs_selected = root_attribute<std::optional<RunsSelected>>(
       file, "runs_selected", false, std::nullopt,
       [&](std::string_view name) -> std::optional<RunsSelected> {

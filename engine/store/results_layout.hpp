@@ -20,6 +20,7 @@
 //   job_resolved   string  every key with the value used, defaults filled in
 //                          (job/resolved_config.hpp's text; absent in older files)
 //   layout         int64   kLayoutVersion (absent in layout-1 files)
+//   rules          int64   kResultsRules (results_rules.hpp; absent in older files)
 //   runs_selected  int64[2] [A, B) of a shard written with --runs A:B (only then)
 //
 // Call these on the thread that owns the file (StoreWriter's, in the engine).
@@ -33,6 +34,7 @@
 #include <vector>
 
 #include "engine/hdf5/hdf5_file.hpp"
+#include "engine/store/results_rules.hpp"
 
 namespace ggk::engine {
 
@@ -67,6 +69,9 @@ struct ResultsHeader {
   std::string job_sweeps;     // empty: no attribute (no --sweep)
   std::string job_resolved;   // empty: no attribute (files of older ggk)
   std::int64_t layout = kLayoutVersion;
+  // The results rules (results_rules.hpp); of a file without the attribute, as
+  // its `git` says (rules_of_unmarked_file).
+  std::int64_t rules = kResultsRules;
   std::optional<RunsSelected> runs_selected;  // none: the whole job's file
   bool operator==(const ResultsHeader&) const = default;
 };

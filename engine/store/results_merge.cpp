@@ -134,6 +134,13 @@ void merge_results(const std::filesystem::path& output,
     if (!difference && shard.header.inputs != first.inputs) {
       difference = "its input files differ";
     }
+    if (shard.header.rules != first.rules) {
+      throw UsageError("cannot merge " + shard.path.string() + " with " +
+                       shards.front().path.string() + ": its runs were computed under results " +
+                       rules_words(shard.header.rules) + ", those of " +
+                       shards.front().path.string() + " under " + rules_words(first.rules) +
+                       ": merged, they would equal neither ggk's results from scratch");
+    }
     if (difference) {
       throw UsageError(shard.path.string() + " holds another job than " +
                        shards.front().path.string() + " (" + *difference +

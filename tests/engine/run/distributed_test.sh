@@ -131,6 +131,11 @@ kill)
   wait "$launcher_pid" || status=$?
   [ $status != 0 ] || fail "the job did not stop after its rank 1 was killed"
   grep -Eq "run [0-9]+ on rank 1 \(silent" "$scratch/log" || { cat "$scratch/log"; fail "no message naming rank 1 and its run"; }
+  # Named first, not after a "stopped by SIGTERM" that mpirun's SIGKILL may
+  # leave alone (stop 41's campaign, F11).
+  grep -q "ggk: error: rank 1 .*died or was killed, and mpirun then sent SIGTERM" "$scratch/log" ||
+    { cat "$scratch/log"; fail "the dead rank 1 is not named as dead"; }
+  ! grep -q "stopped by SIGTERM" "$scratch/log" || { cat "$scratch/log"; fail "the kill of rank 1 was reported as a stop"; }
   grep -q -- "--resume" "$scratch/log" || fail "no hint to resume"
   "$GGK" info "$scratch/killed.h5" | grep "complete"
   "${launcher[@]}" $(np 2) "$GGK" run "$job" -j 1 -q --resume --runs 0:5 -o "$scratch/killed.h5"

@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kernels/lspi.hpp"
@@ -99,7 +101,7 @@ TEST_F(ResultsLayoutTest, OptionalAttributesAreLeftOutAndReadAsAbsent) {
   EXPECT_FALSE(file.has_attribute("/", "runs_selected"));
   EXPECT_EQ(file.attribute_names("/"),
             (std::vector<std::string>{"created", "ggk_version", "git", "job", "job_file", "layout",
-                                      "runs", "task"}));
+                                      "rules", "runs", "task"}));
   EXPECT_EQ(read_results_header(file), header);
 }
 
@@ -110,6 +112,39 @@ TEST_F(ResultsLayoutTest, AFileWithoutALayoutIsLayoutOne) {
   EXPECT_NE(layout_mismatch(header.layout).find("written by an older ggk"), std::string::npos);
   EXPECT_NE(layout_mismatch(kLayoutVersion + 1).find("written by a newer ggk"), std::string::npos);
   EXPECT_EQ(layout_mismatch(kLayoutVersion), "");
+}
+
+// Results rules (results_rules.hpp): written by every new file; a file without
+// the attribute is rules 1, unless its `git` names a commit that computed under
+// rules 2 before files said so (stop 41's campaign, F4: a file of the rules
+// before common random numbers resumed to a mix of both).
+TEST_F(ResultsLayoutTest, AFileRecordsItsResultsRulesAndOlderOnesAreToldByTheirCommit) {
+  {
+    const Hdf5File file = Hdf5File::open_read_only(file_without("nothing"));
+    EXPECT_EQ(file.read_int64_attribute("/", "rules"), kResultsRules);
+  }
+  const fs::path path = file_without("rules");
+  for (const auto& [git, rules] : std::vector<std::pair<std::string, std::int64_t>>{
+           {"90152b7", 1},        // the commit before common random numbers
+           {"10a1054", 2},        // common random numbers
+           {"0643028-dirty", 2},  // a later commit's build with changes of its own
+           {"064302868a", 2},     // a longer abbreviation
+           {"v0.1-3-gabcdef", 1},
+           {"unknown", 1},
+           {"", 1}}) {
+    {
+      Hdf5File file = Hdf5File::open_read_write(path);
+      file.remove_attribute("/", "git");
+      file.write_string_attribute("/", "git", git);
+      file.flush();
+    }
+    const Hdf5File file = Hdf5File::open_read_only(path);
+    EXPECT_EQ(read_results_header(file).rules, rules) << git;
+  }
+  EXPECT_EQ(rules_mismatch(kResultsRules), "");
+  const std::string mismatch = rules_mismatch(1);
+  EXPECT_NE(mismatch.find("rules 1 (before common random numbers"), std::string::npos) << mismatch;
+  EXPECT_NE(mismatch.find("this ggk computes under rules 2"), std::string::npos) << mismatch;
 }
 
 TEST_F(ResultsLayoutTest, AMissingRequiredAttributeIsNamed) {
