@@ -388,6 +388,22 @@ int main(int argc, char** argv) {
   merge->add_option("--shards-of", merge_job,
                     "JOB: merge the shards of OUT (the job's output) that ggk run JOB --shard "
                     "wrote, OUT.shard-I-of-N.h5, refusing when one is missing");
+  std::string merge_output_option;
+  std::vector<std::string> merge_overrides, merge_sweeps;
+  merge->add_option("-o,--output", merge_output_option,
+                    "OUT: the merged results file, as ggk run's -o (then every positional "
+                    "argument is a shard)");
+  merge
+      ->add_option("--set", merge_overrides,
+                   "KEY=VALUE: with --shards-of, the --set options the shards were run with")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  merge
+      ->add_option("--sweep", merge_sweeps,
+                   "KEY=V1,V2,...: with --shards-of, the --sweep options the shards were run "
+                   "with")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   merge->add_flag("--allow-partial", merge_options.allow_partial,
                   "merge even when runs are missing (ggk run --resume computes them)");
   merge->add_flag("-q,--quiet", quiet, "print nothing but errors");
@@ -484,12 +500,30 @@ int main(int argc, char** argv) {
     }
     if (*merge) {
       std::vector<std::filesystem::path> shards(merge_inputs.begin(), merge_inputs.end());
+      if (!merge_output_option.empty()) {  // -o OUT: every positional is a shard
+        if (!merge_output.empty()) shards.insert(shards.begin(), merge_output);
+        merge_output = merge_output_option;
+      }
+      if (merge_job.empty() && (!merge_overrides.empty() || !merge_sweeps.empty())) {
+        throw engine::UsageError(
+            "merge: --set and --sweep say how the shards of --shards-of JOB were run (ggk merge "
+            "--shards-of JOB --sweep ... -o OUT); shard files given by name need neither (ggk "
+            "merge OUT a.h5 b.h5 ...)");
+      }
       if (!merge_job.empty()) {
         if (!shards.empty()) {
           throw engine::UsageError("merge --shards-of " + merge_job +
-                                   " finds the shards itself: give no shard files");
+                                   " finds the shards itself: give no shard files (or give "
+                                   "them without --shards-of: ggk merge OUT a.h5 b.h5 ...)");
         }
-        shards = engine::shards_of_job(merge_job, merge_output, merge_options.allow_partial);
+        engine::JobLoadOptions shard_load;
+        shard_load.overrides = merge_overrides;
+        shard_load.sweeps = merge_sweeps;
+        shards =
+            engine::shards_of_job(merge_job, shard_load, merge_output, merge_options.allow_partial);
+        merge_options.check_run_options = true;
+        merge_options.expected_overrides = merge_overrides;
+        merge_options.expected_sweeps = merge_sweeps;
       } else if (merge_output.empty() || shards.empty()) {
         throw engine::UsageError(
             "merge: give the output and its shards (ggk merge OUT a.h5 b.h5 ...), or the job "

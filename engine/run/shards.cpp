@@ -135,11 +135,19 @@ void apply_shard_option(std::string_view text, const fs::path& job_path, JobLoad
   select_shard(parse_shard(text, environment), job, options);
 }
 
-std::vector<fs::path> shards_of_job(const fs::path& job_path, std::string& output,
-                                    bool allow_missing) {
-  JobLoadOptions load;
+std::vector<fs::path> shards_of_job(const fs::path& job_path, JobLoadOptions load,
+                                    std::string& output, bool allow_missing) {
   load.check_output = false;
   const Study study = load_study(job_path, task_tables(), load);
+  if (output.empty() && (!load.overrides.empty() || !load.sweeps.empty())) {
+    // ggk run refuses --set / --sweep into the job's own file: the shards were
+    // written beside the run's -o.
+    throw UsageError("merge --shards-of " + job_path.string() + " with " +
+                     (load.sweeps.empty() ? "--set" : "--sweep") +
+                     ": the shards of such a run are named after its -o OUT (OUT.shard-I-of-N.h5); "
+                     "give the same -o OUT here, or the shard files by name (ggk merge OUT "
+                     "OUT.shard-0-of-N.h5 ...)");
+  }
   if (output.empty()) output = study.job().output.file.string();
   return find_shards(output, allow_missing);
 }

@@ -56,10 +56,14 @@ void select_shard(const Shard& shard, const JobSpec& job, RunOptions& options);
 void apply_shard_option(std::string_view text, const std::filesystem::path& job_path,
                         JobLoadOptions load, RunOptions& options);
 
-// `ggk merge [OUT] --shards-of JOB`: sets an empty `output` to the job's output and
-// returns find_shards(output, allow_missing).
+// `ggk merge [OUT] --shards-of JOB [--set ...] [--sweep ...]`: reads the job with
+// `load`'s overrides and sweeps (a UsageError for a bad one, as run gives), sets an
+// empty `output` to the job's output (refused when there are overrides or sweeps:
+// their shards are named after the run's -o) and returns find_shards(output,
+// allow_missing).
 std::vector<std::filesystem::path> shards_of_job(const std::filesystem::path& job_path,
-                                                 std::string& output, bool allow_missing);
+                                                 JobLoadOptions load, std::string& output,
+                                                 bool allow_missing);
 
 // The shard files of `output` (x.shard-I-of-N<ext> beside it), in shard order.
 // Refuses when there are none, when they come from splits into different N, and

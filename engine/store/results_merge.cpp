@@ -3,11 +3,13 @@
 #include <unistd.h>
 #include <chrono>
 
+#include <algorithm>
 #include <map>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <system_error>
+#include <tuple>
 #include <vector>
 
 #include "engine/hdf5/hdf5_file.hpp"
@@ -133,6 +135,29 @@ void merge_results(const std::filesystem::path& output,
     }
     if (!difference && shard.header.inputs != first.inputs) {
       difference = "its input files differ";
+    }
+    for (const auto& [what, given, recorded] :
+         {std::tuple{"--set", &options.expected_overrides, &shard.header.job_overrides},
+          std::tuple{"--sweep", &options.expected_sweeps, &shard.header.job_sweeps}}) {
+      std::string lines;
+      for (const std::string& option : *given) lines += (lines.empty() ? "" : "\n") + option;
+      if (!options.check_run_options || lines == *recorded) continue;
+      const auto words = [&](const std::string& text) {
+        if (text.empty()) return std::string("no ") + what;
+        std::string out;
+        std::size_t start = 0;
+        while (start <= text.size()) {
+          const std::size_t end = std::min(text.find('\n', start), text.size());
+          out += (out.empty() ? "" : " ") + std::string(what) + " " +
+                 shell_quoted(text.substr(start, end - start));
+          start = end + 1;
+        }
+        return out;
+      };
+      throw UsageError(shard.path.string() + " was run with " + words(*recorded) + ", not the " +
+                       words(lines) +
+                       " given here: give the options its run had, "
+                       "or merge the shard files by name (ggk merge OUT a.h5 b.h5 ...)");
     }
     if (shard.header.rules != first.rules) {
       throw UsageError("cannot merge " + shard.path.string() + " with " +

@@ -17,6 +17,7 @@
 #include <ostream>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace ggk::engine {
 
@@ -25,6 +26,12 @@ struct MergeOptions {
   // The ggk program as invoked: the command printed to compute missing runs
   // (`PROGRAM run JOB [--set K=V]... --resume -o OUT`) starts with it.
   std::string program = "ggk";
+  // `ggk merge --shards-of JOB --set ... --sweep ...`: the options the shards must
+  // have been run with (their root attributes job_overrides / job_sweeps, one a
+  // line); a shard of other options is refused naming both. Checked only when
+  // check_run_options (shard files merged by name are not asked).
+  bool check_run_options = false;
+  std::vector<std::string> expected_overrides = {}, expected_sweeps = {};
 };
 
 // Throws UsageError for what the user can fix (unreadable or foreign shards,

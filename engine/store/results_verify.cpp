@@ -286,7 +286,7 @@ bool verify_results(const std::filesystem::path& path, std::ostream& out) {
         << "): `ggk run JOB --resume -o " << path.string()
         << "` copies the runs that read back whole into a new file that takes its name, "
            "computes the rest, and keeps this file as "
-        << kept.string() << "\n";
+        << kept.string() << " if a run of it could not be copied\n";
   }
   return false;
 }

@@ -9,6 +9,8 @@
 #   slurm          --shard slurm in a (simulated) job array's environment: 2 tasks
 #                  merge to the whole job; outside an array, or an array from 1:
 #                  exit 2 naming the variable
+#   study          a --sweep study's shards: merge --shards-of JOB --sweep ... -o
+#                  OUT (other options refused naming both), merge -o OUT a b
 #   affinity       `taskset -c 0 ggk run -j 2` warns that 2 threads share 1 CPU,
 #                  naming srun --cpus-per-task; -j as many as the mask holds does not
 # Environment: GGK (the binary), GGK_SOURCE_DIR.
@@ -117,6 +119,27 @@ affinity)
   ! grep -q "warning" "$scratch/err" || fail "-j $cpus on $cpus CPUs warned: $(cat "$scratch/err")"
   expect_ok taskset -c 0 "$GGK" run job.toml -q --set runs=1 -o default-threads.h5
   ! grep -q "warning" "$scratch/err" || fail "default -j under taskset warned: $(cat "$scratch/err")"
+  ;;
+study)
+  # A --sweep study's shards are named after its -o (issue 36: merge --shards-of
+  # could not find them, and `merge -o` said "did you mean '-h'?"): merge takes
+  # -o and the options the shards were run with, refuses other options naming
+  # both, and without -o says where such shards are.
+  cd "$scratch"
+  study=(--sweep kernels=4,8 --set runs=4)
+  for i in 0 1; do expect_ok "$GGK" run job.toml -q -j 2 "${study[@]}" -o st.h5 --shard $i/2; done
+  expect_ok "$GGK" run job.toml -q -j 2 "${study[@]}" -o whole.h5
+  expect_error 2 "give the same -o OUT here" "$GGK" merge --shards-of job.toml "${study[@]}"
+  expect_error 2 "was run with --sweep kernels=4,8, not the --sweep kernels=4,16 given here" \
+    "$GGK" merge --shards-of job.toml --sweep kernels=4,16 --set runs=4 -o st.h5
+  [ ! -e st.h5 ] || fail "a refused merge wrote its output"
+  expect_ok "$GGK" merge --shards-of job.toml "${study[@]}" -o st.h5
+  expect_ok "$GGK" diff whole.h5 st.h5
+  # -o with the shard files by name; --sweep without --shards-of is refused.
+  expect_ok "$GGK" merge -q -o by-name.h5 st.shard-0-of-2.h5 st.shard-1-of-2.h5
+  expect_ok "$GGK" diff whole.h5 by-name.h5
+  expect_error 2 "shard files given by name need neither" \
+    "$GGK" merge -o x.h5 st.shard-0-of-2.h5 --sweep kernels=4,8
   ;;
 *)
   fail "unknown case $case_name"
