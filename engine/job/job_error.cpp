@@ -27,7 +27,15 @@ std::string format_message(const std::string& file, JobFileLocation location,
 }  // namespace
 
 std::string display_key(const std::string& key_path) {
-  const std::size_t dot = key_path.rfind('.');
+  // The last dot outside double quotes: a quoted key ("arm.links", a study
+  // axis) is one key, printed as written ([sweep] "arm.links", not
+  // [sweep."arm] links").
+  std::size_t dot = std::string::npos;
+  bool quoted = false;
+  for (std::size_t i = 0; i < key_path.size(); ++i) {
+    if (key_path[i] == '"') quoted = !quoted;
+    if (key_path[i] == '.' && !quoted) dot = i;
+  }
   if (dot == std::string::npos) return shortened(key_path);
   return '[' + shortened(std::string_view(key_path).substr(0, dot)) + "] " +
          shortened(std::string_view(key_path).substr(dot + 1));

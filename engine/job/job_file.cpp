@@ -422,6 +422,15 @@ void apply_sweep_option(toml::table& root, const std::string& text) {
       begin = comma + 1;
     }
   }
+  // Checked here, where the option can be named: a copied array loses where
+  // its values came from, so the study's check would blame the job file.
+  for (const toml::node& element : array) {
+    if (!(element.is_number() || element.is_string() || element.is_boolean())) {
+      throw JobError(source, {}, "sweep.\"" + key + "\"",
+                     "a study axis takes scalar values (numbers, strings, booleans), got " +
+                         describe_value(element));
+    }
+  }
   toml::node* sweep = root.get("sweep");
   if (sweep == nullptr) {
     root.insert("sweep", toml::table{});

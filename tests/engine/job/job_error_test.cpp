@@ -37,6 +37,16 @@ std::string job_named(const std::string& name) {
   return "name = \"" + name + "\"\ntask = \"maze\"\nruns = 1\nseed = 0\n" + kMazeTables;
 }
 
+// A dotted key in quotes (a study axis, `--sweep arm.links=...`) is one key:
+// issue 36 found it printed as [sweep."arm] links".
+TEST(DisplayKey, SplitsAtTheLastDotOutsideQuotes) {
+  EXPECT_EQ(display_key("runs"), "runs");
+  EXPECT_EQ(display_key("lspi.max_iterations"), "[lspi] max_iterations");
+  EXPECT_EQ(display_key("khepera.motion.turn_deg"), "[khepera.motion] turn_deg");
+  EXPECT_EQ(display_key("sweep.\"arm.links\""), "[sweep] \"arm.links\"");
+  EXPECT_EQ(display_key("\"a.b\""), "\"a.b\"");
+}
+
 TEST(Shortened, KeepsShortTextAndCutsLongText) {
   EXPECT_EQ(shortened("abc", 3), "abc");
   EXPECT_EQ(shortened("abcd", 3), "abc\u2026(4 characters)");

@@ -210,6 +210,20 @@ TEST(Study, SweepOptionTakesARangeAndRefusesAKeyTwice) {
       << twice;
 }
 
+// An error in a --sweep value names the option and the key as written, not the
+// job file and a key split at its inner dot (issue 36: "jobs/ci-arm.toml:
+// [sweep."arm] links": ...).
+TEST(Study, ASweepOptionsErrorNamesTheOptionAndTheKeyAsWritten) {
+  JobLoadOptions options = no_output_check();
+  options.sweeps = {"maze.slip=[[0.1,0.2],[0.3]]"};
+  const std::string error = error_of(maze_job(""), options);
+  EXPECT_EQ(error.rfind("--sweep maze.slip=[[0.1,0.2],[0.3]]: [sweep] \"maze.slip\": a study axis "
+                        "takes scalar values",
+                        0),
+            0u)
+      << error;
+}
+
 TEST(Study, ParseJobRefusesAStudy) {
   try {
     parse_job(maze_job("\"maze.slip\" = [0.0, 0.1]"), jobs_dir() / "study.toml", task_tables(),
