@@ -2,24 +2,56 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
+#include "engine/tasks/fit_count.hpp"
+
 namespace ggk::engine {
 
-std::string eta_text(std::int32_t done, std::int32_t total, double elapsed_seconds) {
-  // No estimate before the first run ends: "--", not a made-up 0 s.
+std::string eta_text(std::int64_t done, std::int64_t total, double elapsed_seconds) {
+  // No estimate before the first unit ends: "--", not a made-up 0 s.
   if (done <= 0) return "--";
   char text[32];
-  std::snprintf(text, sizeof text, "%.0fs", elapsed_seconds * (total - done) / done);
+  std::snprintf(text, sizeof text, "%.0fs",
+                elapsed_seconds * static_cast<double>(std::max<std::int64_t>(total - done, 0)) /
+                    static_cast<double>(done));
   return text;
 }
 
-Progress::Progress(std::int32_t total_runs, std::int32_t fits_per_run, bool quiet)
+std::string progress_text(std::int32_t runs_done, std::int32_t total_runs, std::int64_t fits_done,
+                          std::int64_t total_fits, double elapsed_seconds) {
+  char text[160];
+  if (fits_done < 0) {
+    const double fits_per_second =
+        elapsed_seconds > 0
+            ? static_cast<double>(runs_done) *
+                  (total_runs > 0 ? static_cast<double>(total_fits) / total_runs : 0.0) /
+                  elapsed_seconds
+            : 0;
+    std::snprintf(text, sizeof text, "runs %d/%d, %.1f fits/s, elapsed %.0fs, eta %s", runs_done,
+                  total_runs, fits_per_second, elapsed_seconds,
+                  eta_text(runs_done, total_runs, elapsed_seconds).c_str());
+    return text;
+  }
+  fits_done = std::min(fits_done, total_fits);
+  const double fits_per_second =
+      elapsed_seconds > 0 ? static_cast<double>(fits_done) / elapsed_seconds : 0;
+  std::snprintf(text, sizeof text, "runs %d/%d, fits %lld/%lld, %.1f fits/s, elapsed %.0fs, eta %s",
+                runs_done, total_runs, static_cast<long long>(fits_done),
+                static_cast<long long>(total_fits), fits_per_second, elapsed_seconds,
+                eta_text(fits_done, total_fits, elapsed_seconds).c_str());
+  return text;
+}
+
+Progress::Progress(std::int32_t total_runs, std::int32_t fits_per_run, bool quiet, bool count_fits)
     : total_runs_(total_runs),
       fits_per_run_(fits_per_run),
       quiet_(quiet),
       terminal_(isatty(STDERR_FILENO) == 1),
+      count_fits_(count_fits),
+      fits_before_(fits_done()),
       start_(std::chrono::steady_clock::now()) {
   if (!quiet_) printer_ = std::thread([this] { loop(); });
 }
@@ -45,21 +77,24 @@ void Progress::print(bool final_line) {
   const std::int32_t done = runs_done_.load(std::memory_order_relaxed);
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const double fits_per_second =
-      elapsed > 0 ? done * static_cast<double>(fits_per_run_) / elapsed : 0;
-  const std::string eta = eta_text(done, total_runs_, elapsed);
+  const std::int64_t total_fits = static_cast<std::int64_t>(total_runs_) * fits_per_run_;
+  const std::int64_t fits = count_fits_ ? fits_done() - fits_before_ : -1;
+  const std::string text = progress_text(done, total_runs_, fits, total_fits, elapsed);
   if (terminal_) {
     constexpr int kWidth = 30;
-    const int filled = total_runs_ > 0 ? kWidth * done / total_runs_ : kWidth;
+    const double fraction =
+        fits >= 0 ? (total_fits > 0 ? static_cast<double>(std::min(fits, total_fits)) /
+                                          static_cast<double>(total_fits)
+                                    : 1.0)
+                  : (total_runs_ > 0 ? static_cast<double>(done) / total_runs_ : 1.0);
+    const int filled = static_cast<int>(kWidth * fraction);
     char bar[kWidth + 1];
     for (int i = 0; i < kWidth; ++i) bar[i] = i < filled ? '#' : '.';
     bar[kWidth] = '\0';
-    std::fprintf(stderr, "\r[%s] runs %d/%d  %.1f fits/s  elapsed %.0fs  eta %s   ", bar, done,
-                 total_runs_, fits_per_second, elapsed, eta.c_str());
+    std::fprintf(stderr, "\r[%s] %s   ", bar, text.c_str());
     if (final_line) std::fputc('\n', stderr);
   } else {
-    std::fprintf(stderr, "ggk: runs %d/%d, %.1f fits/s, elapsed %.0fs, eta %s\n", done, total_runs_,
-                 fits_per_second, elapsed, eta.c_str());
+    std::fprintf(stderr, "ggk: %s\n", text.c_str());
   }
   std::fflush(stderr);
 }

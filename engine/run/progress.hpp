@@ -1,8 +1,10 @@
 #pragma once
-// Progress of a sweep on stderr: a redrawn bar (runs done / total, fits per
-// second, ETA) when stderr is a terminal, plain lines every few seconds otherwise.
+// Progress of a sweep on stderr: a redrawn bar when stderr is a terminal, plain
+// lines every few seconds otherwise. Runs done / total, and fits done / total as
+// each fit ends (tasks/fit_count.hpp), so a long run shows its progress; the ETA
+// from fits once one has ended (a fit is the finer unit of work), else from runs.
 //
-// Thread-safety: fit_done() and run_done() may be called from any thread.
+// Thread-safety: run_done() may be called from any thread.
 
 #include <atomic>
 #include <chrono>
@@ -14,14 +16,21 @@
 
 namespace ggk::engine {
 
-// The time left after `done` of `total` runs in `elapsed_seconds` ("42s"), or
-// "--" while no run has ended.
-std::string eta_text(std::int32_t done, std::int32_t total, double elapsed_seconds);
+// The time left after `done` of `total` units in `elapsed_seconds` ("42s"), or
+// "--" while none has ended.
+std::string eta_text(std::int64_t done, std::int64_t total, double elapsed_seconds);
+
+// What the display says (without the bar): "runs 0/1, fits 10/40, 2.0 fits/s,
+// elapsed 5s, eta 15s". fits_done < 0: fits are not counted here (an MPI rank 0,
+// whose workers' fits it does not see): runs only, fits/s from whole runs.
+std::string progress_text(std::int32_t runs_done, std::int32_t total_runs, std::int64_t fits_done,
+                          std::int64_t total_fits, double elapsed_seconds);
 
 class Progress {
  public:
-  // quiet: print nothing. fits_per_run: sweep points per run.
-  Progress(std::int32_t total_runs, std::int32_t fits_per_run, bool quiet);
+  // quiet: print nothing. fits_per_run: sweep points per run. count_fits: the
+  // fits of this process are the job's (not under MPI).
+  Progress(std::int32_t total_runs, std::int32_t fits_per_run, bool quiet, bool count_fits = true);
   ~Progress();  // stops the printer and prints the final line
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
@@ -36,6 +45,8 @@ class Progress {
   const std::int32_t fits_per_run_;
   const bool quiet_;
   const bool terminal_;
+  const bool count_fits_;
+  const std::int64_t fits_before_;  // fits_done() at the start
   const std::chrono::steady_clock::time_point start_;
   std::atomic<std::int32_t> runs_done_{0};
   std::mutex mutex_;

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "engine/tasks/continuous_episodes.hpp"
+#include "engine/tasks/fit_count.hpp"
 #include "engine/tasks/pvf_basis.hpp"
 #include "engine/tasks/seeds.hpp"
 #include "kernels/action_block_system.hpp"
@@ -285,6 +286,7 @@ std::vector<FitRecord> fit_points(RunContext& ctx, std::span<const SweepPoint> p
     }
     tbb::parallel_for(std::size_t{0}, group.size(), [&](std::size_t f) {
       fits[group[f]] = fit_point(ctx, points[group[f]], table, shared);
+      count_fit_done();
     });
   });
   return fits;

@@ -12,6 +12,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "engine/tasks/fit_count.hpp"
 #include "engine/tasks/pvf_basis.hpp"
 #include "engine/tasks/seeds.hpp"
 #include "kernels/gaussian_kernels.hpp"
@@ -394,8 +395,10 @@ RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscretePr
   }
 
   record.fits.resize(points.size());
-  tbb::parallel_for(std::size_t{0}, points.size(),
-                    [&](std::size_t i) { record.fits[i] = fit_point(ctx, points[i]); });
+  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t i) {
+    record.fits[i] = fit_point(ctx, points[i]);
+    count_fit_done();
+  });
   return record;
 }
 
