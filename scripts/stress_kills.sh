@@ -315,7 +315,8 @@ hostile_lengths() {
 # F2: a whole file read under a tight address-space limit (ulimit -v, 108..140
 # MB): info, verify and diff read it or say "not enough memory" (exit 2); never
 # DAMAGED, never a crash. (Below ~105 MB OpenBLAS cannot start its threads when
-# it loads, before ggk runs: its own message, exit 130, tolerated here.)
+# it loads, below ~95 MB the loader cannot map the libraries, both before ggk
+# runs: their own messages, exit 130 and 127, tolerated here.)
 tight_memory() {
   local survived=0 try megabytes command s ok
   for try in $(seq "$tries"); do
@@ -328,6 +329,8 @@ tight_memory() {
       else
         timeout "$limit" prlimit --as=$((megabytes * 1000000)) "$ggk" $command "$reference" >"$scratch/out" 2>"$scratch/err" || s=$?
       fi
+      # Before ggk runs: the loader, or OpenBLAS starting its threads as it loads.
+      [ $s = 127 ] && grep -q "error while loading shared libraries" "$scratch/err" && continue
       [ $s = 130 ] && grep -q "OpenBLAS blas_thread_init" "$scratch/err" && continue
       if [ $s = 1 ] || ! answered $s "$scratch/err" || grep -q DAMAGED "$scratch/out" ||
         { [ $s = 2 ] && ! grep -q "not enough memory" "$scratch/err"; }; then
