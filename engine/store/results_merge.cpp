@@ -9,7 +9,6 @@
 #include <sstream>
 #include <string>
 #include <system_error>
-#include <tuple>
 #include <vector>
 
 #include "engine/hdf5/hdf5_file.hpp"
@@ -30,6 +29,34 @@ struct Shard {
   Hdf5File file;
   ResultsHeader header;
 };
+
+// "--sweep a=1,2 --sweep b=x" for the options recorded one a line, "no --sweep"
+// for none.
+std::string options_words(const std::string& option, const std::string& lines) {
+  if (lines.empty()) return "no " + option;
+  std::string words;
+  std::size_t start = 0;
+  while (start <= lines.size()) {
+    const std::size_t end = std::min(lines.find('\n', start), lines.size());
+    words +=
+        (words.empty() ? "" : " ") + option + " " + shell_quoted(lines.substr(start, end - start));
+    start = end + 1;
+  }
+  return words;
+}
+
+// `ggk merge --shards-of JOB --set/--sweep ...`: the shard was run with the options
+// given (its root attribute job_overrides / job_sweeps, one a line).
+void check_run_options(const std::string& option, const std::vector<std::string>& given,
+                       const std::string& recorded, const std::filesystem::path& shard) {
+  std::string lines;
+  for (const std::string& text : given) lines += (lines.empty() ? "" : "\n") + text;
+  if (lines == recorded) return;
+  throw UsageError(shard.string() + " was run with " + options_words(option, recorded) +
+                   ", not the " + options_words(option, lines) +
+                   " given here: give the options its run had, or merge the shard files by "
+                   "name (ggk merge OUT a.h5 b.h5 ...)");
+}
 
 Shard open_shard(const std::filesystem::path& path) {
   try {
@@ -136,28 +163,10 @@ void merge_results(const std::filesystem::path& output,
     if (!difference && shard.header.inputs != first.inputs) {
       difference = "its input files differ";
     }
-    for (const auto& [what, given, recorded] :
-         {std::tuple{"--set", &options.expected_overrides, &shard.header.job_overrides},
-          std::tuple{"--sweep", &options.expected_sweeps, &shard.header.job_sweeps}}) {
-      std::string lines;
-      for (const std::string& option : *given) lines += (lines.empty() ? "" : "\n") + option;
-      if (!options.check_run_options || lines == *recorded) continue;
-      const auto words = [&](const std::string& text) {
-        if (text.empty()) return std::string("no ") + what;
-        std::string out;
-        std::size_t start = 0;
-        while (start <= text.size()) {
-          const std::size_t end = std::min(text.find('\n', start), text.size());
-          out += (out.empty() ? "" : " ") + std::string(what) + " " +
-                 shell_quoted(text.substr(start, end - start));
-          start = end + 1;
-        }
-        return out;
-      };
-      throw UsageError(shard.path.string() + " was run with " + words(*recorded) + ", not the " +
-                       words(lines) +
-                       " given here: give the options its run had, "
-                       "or merge the shard files by name (ggk merge OUT a.h5 b.h5 ...)");
+    if (options.check_run_options) {
+      check_run_options("--set", options.expected_overrides, shard.header.job_overrides,
+                        shard.path);
+      check_run_options("--sweep", options.expected_sweeps, shard.header.job_sweeps, shard.path);
     }
     if (shard.header.rules != first.rules) {
       throw UsageError("cannot merge " + shard.path.string() + " with " +
