@@ -130,15 +130,40 @@ RegularFileText read_regular_file(const std::filesystem::path& path, std::int64_
   return result;
 }
 
+std::filesystem::path project_jobs_dir() {
+#ifdef GGK_PROJECT_JOBS_DIR
+  return GGK_PROJECT_JOBS_DIR;
+#else
+  return {};
+#endif
+}
+
 JobInput read_job_input(const TomlTableReader& table, std::string_view key,
                         const std::filesystem::path& job_dir, const std::string& name,
                         std::string_view what) {
   const std::filesystem::path path = job_dir / name;
   JobInput input{table.key_path(key), path.lexically_normal().string(), {}};
   RegularFileText file = read_regular_file(path);
+  // A job copied out of the project (to start one's own) still finds the maps and
+  // arenas the project ships: a relative name missing beside the job is looked
+  // up in the project's jobs/ folder next.
+  std::string elsewhere;
+  const std::filesystem::path shipped = project_jobs_dir();
+  if (file.problem == "does not exist" && std::filesystem::path(name).is_relative() &&
+      !shipped.empty()) {
+    const std::filesystem::path second = (shipped / name).lexically_normal();
+    RegularFileText found = read_regular_file(second);
+    if (found.problem.empty()) {
+      input.path = second.string();
+      file = std::move(found);
+    } else {
+      elsewhere = ", nor is " + shortened(second.string()) + " in the project's jobs/ folder (" +
+                  found.problem + ")";
+    }
+  }
   if (!file.problem.empty()) {
     table.fail(key, std::string(what) + " " + single_quoted(shortened(name)) + " (" +
-                        shortened(input.path) + ") " + file.problem);
+                        shortened(input.path) + ") " + file.problem + elsewhere);
   }
   input.text = std::move(file.text);
   return input;

@@ -42,10 +42,17 @@ struct JobInput {
   std::string text;  // the file's bytes
 };
 
-// Reads `name` (relative to job_dir), the value of `key` in `table`, with
+// The project's jobs/ folder (the source tree ggk was built from), where a
+// relative input name missing beside the job is looked up next; empty when the
+// build does not know it.
+std::filesystem::path project_jobs_dir();
+
+// Reads `name` (relative to job_dir; a relative name missing there is read from
+// project_jobs_dir() instead), the value of `key` in `table`, with
 // read_regular_file(); `what` names the kind of file in messages ("map file").
-// Throws JobError at `key` when the file does not exist, is a directory, a FIFO,
-// a device, a symlink loop, larger than kMaxInputFileBytes or cannot be read.
+// Throws JobError at `key` when the file does not exist (in either place), is a
+// directory, a FIFO, a device, a symlink loop, larger than kMaxInputFileBytes or
+// cannot be read.
 JobInput read_job_input(const TomlTableReader& table, std::string_view key,
                         const std::filesystem::path& job_dir, const std::string& name,
                         std::string_view what);

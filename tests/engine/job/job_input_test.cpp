@@ -116,6 +116,27 @@ TEST_F(JobInputTest, ARegularMapFileAndASymlinkToOneAreRead) {
   EXPECT_EQ(map_file_outcome("link.txt"), "loaded");
 }
 
+// A job copied out of the project (issue 36: its relative map and arena paths
+// broke) finds the files the project ships in its jobs/ folder; a name missing in
+// both places names both; a file beside the job comes first.
+TEST_F(JobInputTest, AJobCopiedElsewhereFindsTheProjectsMaps) {
+  ASSERT_FALSE(project_jobs_dir().empty());
+  ASSERT_TRUE(fs::exists(project_jobs_dir() / "maps" / "four-rooms.txt"));
+  EXPECT_EQ(map_file_outcome("maps/four-rooms.txt"), "loaded");
+  const std::string missing = map_file_outcome("maps/no-such-map.txt");
+  expect_contains(missing, "does not exist, nor is ");
+  expect_contains(missing, "maps/no-such-map.txt in the project's jobs/ folder");
+  // Beside the job first: a map of its own under the same name wins.
+  fs::create_directories(dir_ / "maps");
+  write("maps/four-rooms.txt", kSmallMap);
+  JobLoadOptions options;
+  options.check_output = false;
+  const JobSpec job = load_job_file(write("job.toml", job_with_map_file("maps/four-rooms.txt")),
+                                    task_tables(), options);
+  ASSERT_EQ(job.inputs.size(), 1u);
+  EXPECT_EQ(job.inputs[0].text, kSmallMap);
+}
+
 TEST_F(JobInputTest, AFifoAsMapFileIsRefusedWithoutBlocking) {
   make_fifo("fifo.txt");
   const std::string message = map_file_outcome("fifo.txt");
