@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 
+#include "engine/tasks/run_memory.hpp"
 #include "kernels/blas_runtime.hpp"
 
 namespace ggk::engine {
@@ -46,11 +48,18 @@ double reserved_address_space(std::int32_t compute_threads) {
          per_thread;
 }
 
+double address_space_in_use() {
+  std::ifstream statm("/proc/self/statm");
+  double pages = 0;
+  if (!(statm >> pages)) return 0;
+  return pages * static_cast<double>(::sysconf(_SC_PAGESIZE));
+}
+
 std::string address_space_limit_words() {
   rlimit limit{};
   if (::getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return "";
-  return " under the address-space limit of " +
-         std::to_string(static_cast<long long>(limit.rlim_cur / 1000000)) + " MB (ulimit -v)";
+  return " under the address-space limit of " + format_bytes(static_cast<double>(limit.rlim_cur)) +
+         " (ulimit -v)";
 }
 
 }  // namespace ggk::engine

@@ -32,6 +32,9 @@ void restart_without_blas_pool(char** argv);
 // -j 1 and 572 MB at -j 2 (~200 MB a thread), for a 5 MB estimate per run.
 double reserved_address_space(std::int32_t compute_threads);
 
+// The process's address space in use, in bytes (/proc/self/statm), 0 when unknown.
+double address_space_in_use();
+
 // " under the address-space limit of 120 MB (ulimit -v)" when RLIMIT_AS is
 // finite, else "": what a message about a failed allocation adds.
 std::string address_space_limit_words();

@@ -132,9 +132,7 @@ AvailableMemory available_memory(double reserved_address_space) {
   }
   rlimit limit{};
   if (::getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
-    // /proc/self/statm: the address space in use, in pages.
-    const double pages = read_number("/proc/self/statm").value_or(0.0);
-    const double in_use = pages * static_cast<double>(::sysconf(_SC_PAGESIZE));
+    const double in_use = address_space_in_use();
     take_least(available, static_cast<double>(limit.rlim_cur) - in_use - reserved_address_space,
                "the address-space limit (ulimit -v) of " +
                    format_bytes(static_cast<double>(limit.rlim_cur)) + ", less " +

@@ -608,12 +608,12 @@ OpenedResults open_results(const Study& study, const RunOptions& options, bool u
   std::optional<Hdf5File> file;
   std::optional<std::string> damage;  // why the file cannot be resumed in place
   bool crashes = false;               // reading the file crashes the HDF5 library: copy nothing
+  const ReadingRoom room = ReadingRoom::for_files({output});
   if (resuming) {
     // Read whole in a child first (isolated_reading.hpp): a file whose damage
     // crashes HDF5 is never read here, where a crash would leave the lock.
     const ChildEnd vetted = read_whole_in_child(output);  // resume() reports its damage
-    const ReadingRoom room = ReadingRoom::for_files({output});
-    if (crashed(vetted) && room.user_limit_binds) {  // says nothing about the file
+    if (crashed(vetted) && room.user_limit_binds) {       // says nothing about the file
       throw UsageError("reading " + output.string() + " back crashed (" + ending_words(vetted) +
                        ") under " + room.limit_words(output.string()) +
                        ": HDF5 fails so when memory runs out; raise the limit (or lift it) and "
@@ -628,7 +628,7 @@ OpenedResults open_results(const Study& study, const RunOptions& options, bool u
   // The reading back (resume, salvage) in this process too bounds its address
   // space (reading_memory_cap.hpp): no computing thread exists yet.
   std::optional<ReadingMemoryCap> reading_cap;
-  if (resuming) reading_cap.emplace(ReadingRoom::for_files({output}));
+  if (resuming) reading_cap.emplace(room);
   if (resuming && !crashes) {
     try {
       file.emplace(resume(study, options, output, complete, notes, info));

@@ -2,11 +2,11 @@
 
 #include <sys/resource.h>
 
-#include <cstdio>
-#include <fstream>
 #include <system_error>
 
 #include "engine/hdf5/allocation_failures.hpp"
+#include "engine/run/address_space.hpp"
+#include "engine/tasks/run_memory.hpp"
 
 namespace ggk::engine {
 
@@ -29,33 +29,6 @@ constexpr bool kUnderAddressSanitizer = false;
 constexpr bool kUnderAddressSanitizer = false;
 #endif
 
-// The process's address space in use (VmSize of /proc/self/status), 0 when unknown.
-std::uint64_t address_space_in_use() {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmSize:") {
-      std::uint64_t kilobytes = 0;
-      status >> kilobytes;
-      return kilobytes * 1024;
-    }
-    status.ignore(1 << 16, '\n');
-  }
-  return 0;
-}
-
-std::string megabytes(std::uint64_t bytes) {
-  char text[64];
-  if (bytes >= 10'000'000'000ULL) {
-    std::snprintf(text, sizeof text, "%.0f GB", static_cast<double>(bytes) / 1e9);
-  } else if (bytes >= 1'000'000'000ULL) {
-    std::snprintf(text, sizeof text, "%.1f GB", static_cast<double>(bytes) / 1e9);
-  } else {
-    std::snprintf(text, sizeof text, "%.0f MB", static_cast<double>(bytes) / 1e6);
-  }
-  return text;
-}
-
 }  // namespace
 
 ReadingRoom ReadingRoom::for_files(const std::vector<std::filesystem::path>& files) {
@@ -66,7 +39,8 @@ ReadingRoom ReadingRoom::for_files(const std::vector<std::filesystem::path>& fil
     if (!error) file_bytes += size;
   }
   ReadingRoom room;
-  room.bytes = address_space_in_use() + kBaseAllowance + kPerFileByte * file_bytes;
+  room.bytes = static_cast<std::uint64_t>(address_space_in_use()) + kBaseAllowance +
+               kPerFileByte * file_bytes;
   rlimit limit{};
   if (::getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
     room.user_limit = limit.rlim_cur;
@@ -77,8 +51,9 @@ ReadingRoom ReadingRoom::for_files(const std::vector<std::filesystem::path>& fil
 
 std::string ReadingRoom::limit_words(const std::string& names) const {
   if (!user_limit_binds) return "";
-  return "the address-space limit of " + megabytes(user_limit) + " (ulimit -v), less than the " +
-         megabytes(bytes) + " ggk allows itself for reading " + names;
+  return "the address-space limit of " + format_bytes(static_cast<double>(user_limit)) +
+         " (ulimit -v), less than the " + format_bytes(static_cast<double>(bytes)) +
+         " ggk allows itself for reading " + names;
 }
 
 ReadingMemoryCap::ReadingMemoryCap(const ReadingRoom& room) {
