@@ -30,6 +30,7 @@
 #include "engine/run/isolated_reading.hpp"
 #include "engine/run/job_runner.hpp"
 #include "engine/run/memory_check.hpp"
+#include "engine/run/adaptive_runner.hpp"
 #include "engine/run/open_results.hpp"
 #include "engine/run/shards.hpp"
 #include "engine/store/output_lock.hpp"
@@ -69,6 +70,7 @@ int validate_command(const std::string& job_path, const std::string& output,
   // every point checked, and its stages listed.
   if (!output.empty()) load.output_file = output;
   const engine::Study study = engine::load_study(job_path, engine::task_tables(), load);
+  engine::check_adaptive_metrics(study);
   engine::check_study_memory(study, run_options);
   const engine::JobSpec& job = study.job();
   // The largest configuration's run (a study's configurations differ in size).
@@ -351,6 +353,9 @@ int main(int argc, char** argv) {
   info->add_option("--paired", info_paired,
                    "AXIS=A,B: per point of the other axes, the mean difference A - B of each "
                    "metric paired by run, with its 95 % CI (e.g. basis=ggk,ogk)");
+  info->add_flag("--adaptive", info_options.adaptive,
+                 "an adaptive study's cells only: each comparison's state (+, -, narrow, open, "
+                 "capped), runs, mean difference and confidence-sequence bounds (with --csv: CSV)");
   info->add_flag("-q,--quiet", quiet, "print nothing but errors");
 
   std::string verify_path;

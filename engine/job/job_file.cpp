@@ -44,8 +44,8 @@ constexpr IntegerRange kMaxIterationsRange{1, 1000};
 constexpr std::size_t kMaxFileNameBytes = 255;
 
 // The keys every job has; the registered tasks' names (their tables) join them.
-constexpr std::array<std::string_view, 9> kCommonTopLevelKeys = {
-    "name", "task", "runs", "seed", "sweep", "basis", "pvf", "lspi", "output"};
+constexpr std::array<std::string_view, 10> kCommonTopLevelKeys = {
+    "name", "task", "runs", "seed", "sweep", "basis", "pvf", "lspi", "output", "adaptive"};
 constexpr std::array<std::string_view, 2> kBasisKeys = {"scheme", "truncation"};
 constexpr std::array<std::string_view, 3> kPvfKeys = {"laplacian", "edge_weights", "actions"};
 constexpr std::array<std::string_view, 9> kLspiKeys = {
@@ -532,6 +532,7 @@ JobSpec parse_job_table(const toml::table& root, std::string source_text,
   }
   spec.lspi = parse_lspi(job);
   spec.output = parse_output(job, spec.name, options);
+  spec.adaptive = parse_adaptive_table(job, spec.runs);
   spec.source_file = source_file;
   record_unread_keys(root, "", *resolved);
   spec.resolved = *resolved;

@@ -9,12 +9,14 @@
 #include <any>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <typeinfo>
 #include <vector>
 
+#include "engine/job/adaptive_rule.hpp"
 #include "engine/job/job_input.hpp"
 #include "engine/job/resolved_config.hpp"
 #include "kernels/graph_laplacian.hpp"
@@ -91,6 +93,8 @@ struct JobSpec {
   PvfSettings pvf;
   LspiSettings lspi;
   OutputSettings output;
+  // An adaptive study's rule ([adaptive], adaptive_rule.hpp); none: a fixed number of runs.
+  std::optional<AdaptiveRule> adaptive;
 
   std::filesystem::path source_file;  // the job file as it was named
   // Its TOML text, verbatim (stored with the results); with overrides, the job

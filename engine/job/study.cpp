@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <optional>
 #include <tuple>
 #include <utility>
 
+#include "engine/job/job_error.hpp"
 #include "engine/job/job_file.hpp"
+#include "engine/job/resolved_config.hpp"
 #include "engine/job/sweep.hpp"
 
 namespace ggk::engine {
@@ -260,6 +264,79 @@ void reject_repeats(const Items& items, const std::string& file, const std::stri
   }
 }
 
+// Whether `given` (as a job or a command line writes it) names `stored` (a
+// canonical value, unquoted): the same text, or the same number ("0.0", "0").
+bool same_value_text(const std::string& stored, const std::string& given) {
+  if (stored == given) return true;
+  char* end_stored = nullptr;
+  char* end_given = nullptr;
+  const double x = std::strtod(stored.c_str(), &end_stored);
+  const double y = std::strtod(given.c_str(), &end_given);
+  return !stored.empty() && !given.empty() && *end_stored == '\0' && *end_given == '\0' && x == y;
+}
+
+// The values of the axis `name` of the study as text (a built-in axis's from the
+// job's [sweep], a study axis's canonical values unquoted), or nullopt when no
+// axis has that name.
+std::optional<std::vector<std::string>> axis_value_texts(const Study& study,
+                                                         const std::string& name) {
+  const SweepAxes& sweep = study.job().sweep;
+  std::vector<std::string> texts;
+  if (name == "basis") {
+    for (const KernelType type : sweep.basis) texts.emplace_back(kernel_type_name(type));
+  } else if (name == "kernels") {
+    for (const std::int32_t count : sweep.kernels) texts.push_back(canonical_integer(count));
+  } else if (name == "sigma") {
+    for (const double sigma : sweep.sigma) texts.push_back(canonical_number(sigma));
+  } else if (name == "solver") {
+    for (const auto solver : sweep.solver) texts.emplace_back(solver_name(solver));
+  } else if (name == "lambda") {
+    for (const double lambda : sweep.lambda) texts.push_back(canonical_number(lambda));
+  } else {
+    for (const StudyAxis& axis : study.axes) {
+      for (std::size_t k = 0; k < axis.keys.size(); ++k) {
+        if (axis.keys[k] != name) continue;
+        for (const auto& value : axis.values) texts.push_back(unquoted(value[k]));
+        return texts;
+      }
+    }
+    return std::nullopt;
+  }
+  return texts;
+}
+
+// An adaptive rule's comparisons name axes the study sweeps, and two of each
+// one's values (adaptive_rule.hpp).
+void check_adaptive_rule(const Study& study, const std::string& file) {
+  const std::optional<AdaptiveRule>& rule = study.job().adaptive;
+  if (!rule) return;
+  for (const AdaptiveComparison& comparison : rule->comparisons) {
+    const auto values = axis_value_texts(study, comparison.axis);
+    const std::string what = "compare = \"" + shortened(comparison.text()) + "\": ";
+    if (!values) {
+      std::string axes = "basis, kernels, sigma, solver, lambda";
+      for (const StudyAxis& axis : study.axes) {
+        for (const std::string& key : axis.keys) axes += ", " + key;
+      }
+      throw JobError(file, {}, "adaptive.compare",
+                     what + "the study has no axis '" + shortened(comparison.axis) +
+                         "' (its axes: " + axes + ")");
+    }
+    for (const std::string* side : {&comparison.a, &comparison.b}) {
+      const bool known = std::any_of(values->begin(), values->end(), [&](const std::string& v) {
+        return same_value_text(v, *side);
+      });
+      if (!known) {
+        std::string listed;
+        for (const std::string& v : *values) listed += (listed.empty() ? "" : ", ") + v;
+        throw JobError(file, {}, "adaptive.compare",
+                       what + comparison.axis + " has no value '" + shortened(*side) +
+                           "' in [sweep] (its values: " + listed + ")");
+      }
+    }
+  }
+}
+
 }  // namespace
 
 std::string forbidden_axis_reason(const std::string& key) {
@@ -275,6 +352,9 @@ std::string forbidden_axis_reason(const std::string& key) {
   }
   if (key.rfind("output.", 0) == 0 || key == "output") {
     return "where results go is not an axis: a study is one results file";
+  }
+  if (key.rfind("adaptive.", 0) == 0 || key == "adaptive") {
+    return "the adaptive rule is one for the whole study: it cannot vary";
   }
   if (key.rfind("sweep.", 0) == 0) {
     return "write the built-in axes as [sweep] keys (kernels = [...]), not as dotted keys";
@@ -301,6 +381,7 @@ Study parse_study(std::string toml_text, const std::filesystem::path& source_fil
     configuration.job = parse_job_table(root, source_text, source_file, tasks, options);
     configuration.variants.push_back({{}, configuration.job.lspi});
     study.configurations.push_back(std::move(configuration));
+    check_adaptive_rule(study, file);
     return study;
   }
   std::vector<std::size_t> run_axes, fit_axes, run_sizes, fit_sizes;
@@ -352,6 +433,7 @@ Study parse_study(std::string toml_text, const std::filesystem::path& source_fil
     study.configurations.push_back(std::move(configuration));
   }
   reject_repeats(study.configurations, file, "the run configuration");
+  check_adaptive_rule(study, file);
   return study;
 }
 

@@ -13,6 +13,7 @@
 #include <tbb/parallel_for.h>
 
 #include "engine/job/sweep.hpp"
+#include "engine/run/adaptive_runner.hpp"
 #include "engine/run/fit_warnings.hpp"
 #include "engine/run/job_writer.hpp"
 #include "engine/run/memory_check.hpp"
@@ -113,6 +114,7 @@ void print_run_summary(const JobSpec& job, const RunSummary& s) {
                "%.1f s\nggk: results in %s\n",
                job.name.c_str(), s.runs_computed, s.runs_skipped, static_cast<long long>(s.fits),
                static_cast<long long>(s.failed_fits), s.seconds, s.output.string().c_str());
+  for (const std::string& line : s.adaptive) std::fprintf(stderr, "ggk: %s\n", line.c_str());
 }
 
 RunSummary run_job(const JobSpec& job, const RunOptions& options) {
@@ -120,6 +122,7 @@ RunSummary run_job(const JobSpec& job, const RunOptions& options) {
 }
 
 RunSummary run_study(const Study& study, const RunOptions& options) {
+  if (study.job().adaptive) return run_adaptive_study(study, options);
   const auto started = std::chrono::steady_clock::now();
   const ComputeThreads threads(options.threads);
   check_study_memory(study, options);  // before the output is created or touched

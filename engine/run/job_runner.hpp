@@ -53,6 +53,8 @@ struct RunSummary {
   // MPI, where the workers' runs reach rank 0 as file images (the fits'
   // attribute `warning` holds them there too).
   std::vector<std::string> warnings;
+  // An adaptive study's closing lines (adaptive_runner.hpp); empty for others.
+  std::vector<std::string> adaptive;
 };
 
 // A job that stopped because a run could not be computed or written (a full

@@ -19,6 +19,8 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/job/job_spec.hpp"
@@ -52,6 +54,16 @@ class JobWriter {
                     bool extension);
 
   void wait() { writer_.wait(); }
+  // Runs `read` (taking the Hdf5File) on the writer thread after every queued
+  // write, and returns its result or rethrows what it threw (an adaptive study's
+  // look reads the runs written so far).
+  template <class Read>
+  auto read(Read read_file) {
+    return writer_.submit_and_wait(std::move(read_file)).get();
+  }
+  // An adaptive study's next look (progress.hpp).
+  void add_runs_to_write(std::int32_t runs) { progress_->add_runs(runs); }
+  void set_stage(std::string text) { progress_->set_stage(std::move(text)); }
   bool failed() const { return writer_.failed(); }
   std::int32_t written() const { return written_.load(); }
   const ResultsTarget& target() const { return target_; }

@@ -653,6 +653,12 @@ int run_job_over_mpi(const MpiSession& session, const std::filesystem::path& job
   if (rank != 0) load.check_output = false;
   if (const int status = agree(attempt([&] {
                                  study.emplace(load_study(job_path, task_tables(), load));
+                                 if (study->job().adaptive) {
+                                   throw UsageError(
+                                       "an adaptive study ([adaptive]) runs in one process for "
+                                       "now: run it without mpirun (its looks under MPI are not "
+                                       "supported yet)");
+                                 }
                                  threads.emplace(options.run.threads);
                                }),
                                rank, size)) {

@@ -67,6 +67,11 @@ Progress::~Progress() {
   print(true);
 }
 
+void Progress::set_stage(std::string text) {
+  std::lock_guard lock(mutex_);
+  stage_ = std::move(text);
+}
+
 void Progress::loop() {
   const auto period = terminal_ ? std::chrono::milliseconds(250) : std::chrono::seconds(10);
   std::unique_lock lock(mutex_);
@@ -75,18 +80,20 @@ void Progress::loop() {
 
 void Progress::print(bool final_line) {
   const std::int32_t done = runs_done_.load(std::memory_order_relaxed);
+  const std::int32_t total_runs = total_runs_.load(std::memory_order_relaxed);
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const std::int64_t total_fits = static_cast<std::int64_t>(total_runs_) * fits_per_run_;
+  const std::int64_t total_fits = static_cast<std::int64_t>(total_runs) * fits_per_run_;
   const std::int64_t fits = count_fits_ ? fits_done() - fits_before_ : -1;
-  const std::string text = progress_text(done, total_runs_, fits, total_fits, elapsed);
+  const std::string text = (stage_.empty() ? std::string() : stage_ + ": ") +
+                           progress_text(done, total_runs, fits, total_fits, elapsed);
   if (terminal_) {
     constexpr int kWidth = 30;
     const double fraction =
         fits >= 0 ? (total_fits > 0 ? static_cast<double>(std::min(fits, total_fits)) /
                                           static_cast<double>(total_fits)
                                     : 1.0)
-                  : (total_runs_ > 0 ? static_cast<double>(done) / total_runs_ : 1.0);
+                  : (total_runs > 0 ? static_cast<double>(done) / total_runs : 1.0);
     const int filled = static_cast<int>(kWidth * fraction);
     char bar[kWidth + 1];
     for (int i = 0; i < kWidth; ++i) bar[i] = i < filled ? '#' : '.';

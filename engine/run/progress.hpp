@@ -36,12 +36,16 @@ class Progress {
   Progress& operator=(const Progress&) = delete;
 
   void run_done() { runs_done_.fetch_add(1, std::memory_order_relaxed); }
+  // An adaptive study's next look: `runs` more to do, and what the line leads
+  // with ("look 2, 14 of 216 cells open").
+  void add_runs(std::int32_t runs) { total_runs_.fetch_add(runs, std::memory_order_relaxed); }
+  void set_stage(std::string text);
 
  private:
   void print(bool final_line);
   void loop();
 
-  const std::int32_t total_runs_;
+  std::atomic<std::int32_t> total_runs_;
   const std::int32_t fits_per_run_;
   const bool quiet_;
   const bool terminal_;
@@ -52,6 +56,7 @@ class Progress {
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stopping_ = false;
+  std::string stage_;  // under mutex_
   std::thread printer_;
 };
 

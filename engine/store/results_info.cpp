@@ -18,7 +18,12 @@
 
 #include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/job/adaptive_rule.hpp"
+#include "engine/job/job_error.hpp"
+#include "engine/store/adaptive_info.hpp"
+#include "engine/store/adaptive_state.hpp"
 #include "engine/store/one_line.hpp"
+#include "engine/store/results_contents.hpp"
 #include "engine/store/results_layout.hpp"
 #include "engine/store/run_store.hpp"
 
@@ -66,31 +71,11 @@ Interval wilson_interval(std::int64_t successes, std::int64_t trials) {
 
 namespace {
 
-double as_double(const TableValue& v) {
-  if (const auto* d = std::get_if<double>(&v)) return *d;
-  if (const auto* i = std::get_if<std::int32_t>(&v)) return *i;
-  if (const auto* l = std::get_if<std::int64_t>(&v)) return static_cast<double>(*l);
-  return std::nan("");
-}
-
 std::string number_text(double v, int precision = 4) {
   if (std::isnan(v)) return "nan";
   char text[64];
   std::snprintf(text, sizeof text, "%.*g", precision, v);
   return text;
-}
-
-// The shortest text that reads back as `v` (1e-06, not 9.9999999999999995e-07).
-std::string exact_text(double v) {
-  char text[64];
-  const auto result = std::to_chars(text, text + sizeof text, v);
-  return std::string(text, result.ptr);
-}
-
-std::string as_text(const TableValue& v) {
-  if (const auto* s = std::get_if<std::string>(&v)) return *s;
-  if (const auto* d = std::get_if<double>(&v)) return exact_text(*d);
-  return std::to_string(static_cast<long long>(as_double(v)));
 }
 
 Interval clipped_to_rate(Interval ci) {
@@ -110,26 +95,6 @@ std::string csv_field(const std::string& text) {
   return quoted + "\"";
 }
 
-// What `ggk info` reads from a results file, as plain data: the header, how many
-// runs are complete, and every fit of the complete runs (fit_metrics rows).
-struct FitRow {
-  std::int64_t run = 0;
-  std::int64_t point = 0;           // the sweep point's index
-  std::vector<std::string> key;     // its axis values as text
-  std::optional<FitStatus> status;  // none for a status this ggk does not know
-  std::vector<double> values;       // per metric column
-};
-
-struct ResultsContents {
-  ResultsHeader header;
-  std::size_t complete_runs = 0;
-  std::size_t configurations = 1;         // a study's run configurations (run_store.hpp)
-  bool summary_written = false;           // /<task>/summary exists
-  std::vector<std::string> axis_names;    // the sweep point's axes (basis, kernels, ...)
-  std::vector<std::string> metric_names;  // the metrics the task reports, then fit_seconds
-  std::vector<FitRow> fits;               // in run order
-};
-
 // Per sweep point: its axis values, counts and each metric's interval over runs.
 struct PointSummary {
   std::vector<std::string> key;
@@ -143,62 +108,6 @@ Hdf5File open_for_reading(const std::filesystem::path& path) {
   } catch (const std::exception& e) {
     throw UsageError(e.what());
   }
-}
-
-// The rows of every complete run (what the summary holds once the job ends, so
-// also what a running or killed job has done so far). Their columns: run,
-// sweep_point, the point's axes up to status, then the metrics and fit_seconds.
-ResultsContents read_contents(const Hdf5File& file) {
-  ResultsContents contents;
-  try {
-    contents.header = read_results_header(file);
-  } catch (const ResultsHeaderError& e) {
-    throw UsageError(e.what());
-  }
-  const std::string& task = contents.header.task;
-  const auto runs = static_cast<std::int32_t>(contents.header.runs);
-  const std::vector<std::string> locations = runs_locations(file, task);
-  if (locations.front() != task) contents.configurations = locations.size();
-  contents.summary_written = file.exists("/" + task + "/summary");
-  std::vector<TableColumn> columns;
-  // Columns by name: run, sweep_point, the point's axes (the built-in ones,
-  // then a study's keys), status, the metrics. A point of a study is its
-  // configuration's sweep point.
-  std::size_t point_column = 1, status_column = 0;
-  for (std::size_t l = 0; l < locations.size(); ++l) {
-    const auto configuration = static_cast<std::int64_t>(l);
-    for (const std::int32_t run : complete_runs(file, locations[l], runs)) {
-      ++contents.complete_runs;
-      const std::string table = run_group(locations[l], run) + "/fit_metrics";
-      if (columns.empty()) {
-        columns = file.read_table_columns(table);
-        for (std::size_t c = 0; c < columns.size(); ++c) {
-          if (columns[c].name == "status") status_column = c;
-          if (columns[c].name == "sweep_point") point_column = c;
-        }
-        for (std::size_t c = point_column + 1; c < status_column; ++c) {
-          contents.axis_names.push_back(columns[c].name);
-        }
-        for (std::size_t c = status_column + 1; c < columns.size(); ++c) {
-          contents.metric_names.push_back(columns[c].name);
-        }
-      }
-      for (const TableRow& row : file.read_table(table)) {
-        FitRow fit;
-        fit.run = static_cast<std::int64_t>(as_double(row[0]));
-        fit.point = (configuration << 32) + static_cast<std::int64_t>(as_double(row[point_column]));
-        for (std::size_t c = point_column + 1; c < status_column; ++c) {
-          fit.key.push_back(as_text(row[c]));
-        }
-        fit.status = fit_status_from_text(as_text(row[status_column]));
-        for (std::size_t c = status_column + 1; c < columns.size(); ++c) {
-          fit.values.push_back(as_double(row[c]));
-        }
-        contents.fits.push_back(std::move(fit));
-      }
-    }
-  }
-  return contents;
 }
 
 // The fits grouped by sweep point, in point order, with each metric's interval
@@ -548,6 +457,41 @@ void print_info(const std::filesystem::path& path, std::ostream& out, const Info
                 MetricKindLookup metric_kind) {
   const Hdf5File file = open_for_reading(path);
   ResultsContents contents = read_contents(file);
+  // An adaptive study's cells, judged on every metric before --columns keeps some.
+  std::optional<AdaptiveRule> rule;
+  try {
+    rule = adaptive_rule_of_text(contents.header.job, path.string() + " (its job)",
+                                 static_cast<std::int32_t>(contents.header.runs));
+  } catch (const JobError& e) {
+    throw UsageError(std::string(e.what()));
+  }
+  if (options.adaptive && !rule) {
+    throw UsageError("--adaptive: " + path.string() +
+                     " is no adaptive study (its job has no [adaptive] table)");
+  }
+  std::optional<AdaptiveState> state;
+  if (rule) {
+    const std::string task = contents.header.task;
+    state = adaptive_state(contents, *rule, static_cast<std::int32_t>(contents.configurations),
+                           static_cast<std::int32_t>(contents.header.runs),
+                           [&](std::string_view metric) { return metric_kind(task, metric); });
+  }
+  if (options.adaptive) {
+    const auto rows = adaptive_cell_rows(*state, *rule, options.format == InfoFormat::kCsv);
+    if (options.format == InfoFormat::kCsv) {
+      for (const auto& row : rows) {
+        for (std::size_t i = 0; i < row.size(); ++i) out << (i == 0 ? "" : ",") << csv_field(row[i]);
+        out << "\n";
+      }
+    } else {
+      out << "file:     " << path.string() << "\n"
+          << "adaptive: "
+          << adaptive_status_line(*state, *rule, static_cast<std::int32_t>(contents.header.runs))
+          << "\n";
+      write_aligned(rows, out);
+    }
+    return;
+  }
   keep_columns(contents, options.columns);
   if (options.paired) {
     const std::vector<PairedPoint> points = pair_points(contents, *options.paired, metric_kind);
@@ -563,6 +507,12 @@ void print_info(const std::filesystem::path& path, std::ostream& out, const Info
     write_csv(contents, points, out);
   } else {
     write_text(path, contents, points, out);
+    if (state) {
+      out << "adaptive: "
+          << adaptive_status_line(*state, *rule, static_cast<std::int32_t>(contents.header.runs))
+          << "\n";
+      write_aligned(adaptive_cell_rows(*state, *rule, false), out);
+    }
   }
 }
 

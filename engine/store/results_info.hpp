@@ -44,6 +44,7 @@ struct InfoOptions {
   InfoFormat format = InfoFormat::kText;
   std::vector<std::string> columns;        // metrics to show, in order; empty: all
   std::optional<PairedComparison> paired;  // differences instead of means
+  bool adaptive = false;                   // an adaptive study's cells only (adaptive_info.hpp)
 };
 
 // Throws UsageError when the file cannot be opened or is not a ggk results file,

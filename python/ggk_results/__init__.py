@@ -3,6 +3,7 @@ paired statistics and confidence intervals (scipy), and what the plot scripts
 share. python/README.md says how to install it and how to use it."""
 
 from .actions import ACTION_NAMES, action_names
+from .adaptive import adaptive_cells, adaptive_rule
 from .figures import (FORMATS, add_format_argument, axes_of, axis_values, curve, error_bars,
                       facet_title, facets, legend_below, save, swept_axes)
 from .fits import Fit, labelled

@@ -236,3 +236,64 @@ TEST(Study, ParseJobRefusesAStudy) {
 
 }  // namespace
 }  // namespace ggk::engine
+
+namespace ggk::engine {
+namespace {
+
+// An [adaptive] table (job/adaptive_rule.hpp) on a study over maze.slip.
+std::string adaptive_job(const std::string& adaptive) {
+  return "name = \"study\"\ntask = \"maze\"\nruns = 20\nseed = 7\n"
+         "[sweep]\nbasis = [\"ggk\", \"ogk\"]\nkernels = [4, 8]\nsigma = [10.0]\n"
+         "\"maze.slip\" = [0.0, 0.1]\n"
+         "[maze]\nmap_file = \"maps/four-rooms.txt\"\nseries = 4\n[adaptive]\n" +
+         adaptive;
+}
+
+TEST(AdaptiveRule, ReadsTheTableWithItsDefaults) {
+  const Study study = study_of(adaptive_job(
+      "compare = [\"basis=ggk,ogk\", \"maze.slip=0,0.1\"]\nmetrics = \"success_rate\"\n"
+      "[adaptive.range]\nmean_steps_to_goal = [0.0, 100.0]\n"));
+  ASSERT_TRUE(study.job().adaptive.has_value());
+  const AdaptiveRule& rule = *study.job().adaptive;
+  ASSERT_EQ(rule.comparisons.size(), 2u);
+  EXPECT_EQ(rule.comparisons[1].text(), "maze.slip=0,0.1");
+  EXPECT_EQ(rule.metrics, std::vector<std::string>{"success_rate"});
+  EXPECT_EQ(rule.batch, 5);
+  EXPECT_DOUBLE_EQ(rule.level, 0.95);
+  EXPECT_EQ(rule.target, AdaptiveTarget::kSign);
+  EXPECT_EQ(rule.correction, AdaptiveCorrection::kBonferroni);
+  ASSERT_TRUE(rule.declared_range("mean_steps_to_goal").has_value());
+  EXPECT_DOUBLE_EQ(rule.declared_range("mean_steps_to_goal")->high, 100.0);
+  // Every configuration carries the one rule, and it is part of the resolved job.
+  EXPECT_TRUE(study.configurations.back().job.adaptive.has_value());
+  EXPECT_TRUE(study.job().resolved.value("adaptive.batch").has_value());
+}
+
+TEST(AdaptiveRule, RefusesWhatTheStudyCannotFollow) {
+  const std::string metrics = "metrics = [\"success_rate\"]\n";
+  EXPECT_NE(error_of(adaptive_job("compare = \"kernel=4,8\"\n" + metrics)).find("no axis 'kernel'"),
+            std::string::npos);
+  EXPECT_NE(error_of(adaptive_job("compare = \"kernels=4,16\"\n" + metrics))
+                .find("kernels has no value '16'"),
+            std::string::npos);
+  EXPECT_NE(error_of(adaptive_job("compare = \"basis=ggk\"\n" + metrics)).find("AXIS=A,B"),
+            std::string::npos);
+  EXPECT_NE(error_of(adaptive_job("compare = \"basis=ggk,ogk\"\n" + metrics + "batch = 21\n"))
+                .find("batch"),
+            std::string::npos);
+  EXPECT_NE(error_of(adaptive_job("compare = \"basis=ggk,ogk\"\n" + metrics + "width = 0.1\n"))
+                .find("give target = \"width\""),
+            std::string::npos);
+  EXPECT_NE(error_of(adaptive_job("compare = \"basis=ggk,ogk\"\n" + metrics + "level = 1.0\n"))
+                .find("[adaptive] level"),
+            std::string::npos);
+  EXPECT_NE(error_of(adaptive_job("compare = \"basis=ggk,ogk\"\n" + metrics +
+                                  "[adaptive.range]\nsuccess_rate = [1.0, 0.0]\n"))
+                .find("LOW < HIGH"),
+            std::string::npos);
+  EXPECT_NE(error_of(adaptive_job("compare = \"basis=ggk,ogk\"\n")).find("metrics"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace ggk::engine

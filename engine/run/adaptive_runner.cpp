@@ -1,0 +1,165 @@
+#include "engine/run/adaptive_runner.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "engine/job/usage_error.hpp"
+#include "engine/run/fit_warnings.hpp"
+#include "engine/run/job_writer.hpp"
+#include "engine/run/open_results.hpp"
+#include "engine/store/results_contents.hpp"
+#include "engine/tasks/task_list.hpp"
+
+namespace ggk::engine {
+namespace {
+
+using RunKey = std::pair<std::int32_t, std::int32_t>;  // (configuration, run)
+
+// The study's state from the file's complete runs, leaving out those still to
+// compute (`outstanding`: missing, or lacking fits of a grown study).
+AdaptiveState state_of_file(const Hdf5File& file, const Study& study,
+                            const std::map<RunKey, WorkUnit>& outstanding) {
+  ResultsContents contents = read_contents(file);
+  std::erase_if(contents.fits, [&](const FitRow& fit) {
+    return outstanding.count({fit.configuration, static_cast<std::int32_t>(fit.run)}) > 0;
+  });
+  const std::string task = study.job().task;
+  return adaptive_state(contents, *study.job().adaptive,
+                        static_cast<std::int32_t>(study.configurations.size()), study.job().runs,
+                        [&task](std::string_view metric) { return metric_kind(task, metric); });
+}
+
+std::string stage_text(const AdaptiveState& state) {
+  if (state.cells.empty()) return "look " + std::to_string(state.looks);
+  return "look " + std::to_string(state.looks) + ", " + std::to_string(state.open_cells()) +
+         " of " + std::to_string(state.cells.size()) + " cells open";
+}
+
+}  // namespace
+
+void check_adaptive_metrics(const Study& study) {
+  const std::optional<AdaptiveRule>& rule = study.job().adaptive;
+  if (!rule) return;
+  for (const std::string& metric : rule->metrics) {
+    if (!metric_range(*rule, metric, metric_kind(study.job().task, metric))) {
+      throw UsageError("[adaptive] metrics: '" + metric + "' is no rate or fraction of task '" +
+                       study.job().task +
+                       "', so its range is unknown: give it as [adaptive.range] " + metric +
+                       " = [LOW, HIGH] (the bounds the task's rewards and episode length put on "
+                       "it)");
+    }
+  }
+}
+
+std::vector<std::string> adaptive_summary_lines(const AdaptiveState& state, const Study& study) {
+  std::int64_t decided = 0, capped = 0, failed = 0;
+  for (const AdaptiveCell& cell : state.cells) {
+    if (cell.state == CellState::kCapped) ++capped;
+    else if (cell.state == CellState::kFailed) ++failed;
+    else if (cell.state != CellState::kOpen) ++decided;
+  }
+  std::int64_t runs = 0;
+  for (const std::int32_t wanted : state.runs_wanted) runs += wanted;
+  const std::int64_t fixed =
+      static_cast<std::int64_t>(study.job().runs) * static_cast<std::int64_t>(study.configurations.size());
+  std::vector<std::string> lines;
+  lines.push_back("adaptive: " + std::string(state.done ? "done" : "not done") + " after " +
+                  std::to_string(state.looks) + " looks: " + std::to_string(decided) + " of " +
+                  std::to_string(state.cells.size()) + " cells decided, " +
+                  std::to_string(state.open_cells()) + " open, " + std::to_string(capped) +
+                  " capped at " + std::to_string(study.job().runs) + " runs" +
+                  (failed > 0 ? ", " + std::to_string(failed) + " with failed fits" : "") +
+                  "; " + std::to_string(runs) + " runs, against " + std::to_string(fixed) +
+                  " for every configuration at its most (ggk info shows the cells)");
+  return lines;
+}
+
+RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
+  if (options.runs) {
+    throw UsageError(
+        "an adaptive study chooses its runs by its rule ([adaptive]) from all of them: run it "
+        "whole, without --runs or --shard (shards of an adaptive study are not supported yet)");
+  }
+  const auto started = std::chrono::steady_clock::now();
+  const ComputeThreads threads(options.threads);
+  check_adaptive_metrics(study);
+  check_study_memory(study, options);  // before the output is created or touched
+  OpenedResults opened = open_results(study, options);
+  print_notes(opened.notes);
+  if (!options.quiet) print_notes(opened.info);
+  RunSummary summary;
+  summary.output = opened.target.output();
+  std::map<RunKey, WorkUnit> outstanding;
+  for (WorkUnit& unit : opened.pending) outstanding[{unit.configuration, unit.run}] = std::move(unit);
+
+  std::atomic<std::int64_t> failed_fits{0}, fits{0};
+  std::int32_t computed = 0;
+  FitWarnings warnings;
+  JobWriter writer(study, options, std::move(opened), 0, StopSignals::Mode::kStopInHandler);
+  AdaptiveState state;
+  try {
+    for (;;) {
+      state = writer.read(
+          [&](Hdf5File& file) { return state_of_file(file, study, outstanding); });
+      std::vector<WorkUnit> look;
+      for (std::size_t c = 0; c < study.configurations.size(); ++c) {
+        for (std::int32_t run = 0; run < state.runs_wanted[c]; ++run) {
+          const auto at = outstanding.find({static_cast<std::int32_t>(c), run});
+          if (at != outstanding.end()) look.push_back(at->second);
+        }
+      }
+      writer.set_stage(stage_text(state));
+      if (look.empty()) {
+        if (state.done) break;
+        throw std::logic_error("adaptive study: look " + std::to_string(state.looks) +
+                               " lacks runs but none is outstanding");
+      }
+      writer.add_runs_to_write(static_cast<std::int32_t>(look.size()));
+      tbb::parallel_for(
+          std::size_t{0}, look.size(),
+          [&](std::size_t i) {
+            auto record = std::make_shared<const RunRecord>(compute_unit(study, look[i]));
+            failed_fits.fetch_add(failed_fits_of(*record));
+            fits.fetch_add(static_cast<std::int64_t>(record->fits.size()));
+            warnings.add(*record);
+            writer.commit(std::move(record));
+          },
+          tbb::simple_partitioner());
+      writer.wait();
+      for (const WorkUnit& unit : look) outstanding.erase({unit.configuration, unit.run});
+      computed += static_cast<std::int32_t>(look.size());
+    }
+    writer.finish();
+  } catch (const UsageError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    try {
+      writer.wait();
+    } catch (const std::runtime_error&) {  // the failure being reported, or its cause
+    }
+    const bool published = writer.target().temporary().empty();
+    throw RunFailure(std::string(e.what()) + "\nggk: " +
+                     (published ? writer.go_on().published : writer.go_on().unpublished));
+  }
+  std::int64_t used = 0;
+  for (const std::int32_t wanted : state.runs_wanted) used += wanted;
+  summary.runs_computed = computed;
+  summary.runs_skipped = static_cast<std::int32_t>(used - computed);
+  summary.fits = fits.load();
+  summary.failed_fits = failed_fits.load();
+  summary.warnings = warnings.lines();
+  summary.adaptive = adaptive_summary_lines(state, study);
+  summary.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return summary;
+}
+
+}  // namespace ggk::engine

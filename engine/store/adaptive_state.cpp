@@ -1,0 +1,277 @@
+#include "engine/store/adaptive_state.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "engine/job/usage_error.hpp"
+#include "kernels/confidence_sequence.hpp"
+
+namespace ggk::engine {
+namespace {
+
+// Whether `given` (as the job writes it) names `stored` (as the file's table
+// writes it): the same text or the same number ("0.0" and "0").
+bool same_value(const std::string& stored, const std::string& given) {
+  if (stored == given) return true;
+  char* end_stored = nullptr;
+  char* end_given = nullptr;
+  const double x = std::strtod(stored.c_str(), &end_stored);
+  const double y = std::strtod(given.c_str(), &end_given);
+  return !stored.empty() && !given.empty() && *end_stored == '\0' && *end_given == '\0' && x == y;
+}
+
+// One point of the other axes of a comparison: its two sides' fits by run.
+struct Pairing {
+  std::vector<std::string> key;
+  std::int64_t first_point = 0;  // the smallest point of side A: the cells' order
+  std::int32_t configuration_a = -1;
+  std::int32_t configuration_b = -1;
+  std::map<std::int64_t, const FitRow*> a;  // run -> fit
+  std::map<std::int64_t, const FitRow*> b;
+};
+
+std::vector<Pairing> pairings(const ResultsContents& contents, const AdaptiveComparison& compare,
+                              std::vector<std::string>& key_names) {
+  const auto axis_at =
+      std::find(contents.axis_names.begin(), contents.axis_names.end(), compare.axis);
+  if (axis_at == contents.axis_names.end()) {
+    throw UsageError("[adaptive] compare = \"" + compare.text() + "\": the results have no axis '" +
+                     compare.axis + "'");
+  }
+  const auto axis = static_cast<std::size_t>(axis_at - contents.axis_names.begin());
+  key_names = contents.axis_names;
+  key_names.erase(key_names.begin() + static_cast<std::ptrdiff_t>(axis));
+  std::vector<Pairing> result;
+  std::map<std::vector<std::string>, std::size_t> index_of;
+  for (const FitRow& fit : contents.fits) {
+    const bool is_a = same_value(fit.key[axis], compare.a);
+    if (!is_a && !same_value(fit.key[axis], compare.b)) continue;
+    std::vector<std::string> key = fit.key;
+    key.erase(key.begin() + static_cast<std::ptrdiff_t>(axis));
+    const auto [at, added] = index_of.emplace(key, result.size());
+    if (added) {
+      Pairing pairing;
+      pairing.key = std::move(key);
+      pairing.first_point = INT64_MAX;
+      result.push_back(std::move(pairing));
+    }
+    Pairing& pairing = result[at->second];
+    if (is_a) {
+      pairing.a[fit.run] = &fit;
+      pairing.configuration_a = fit.configuration;
+      pairing.first_point = std::min(pairing.first_point, fit.point);
+    } else {
+      pairing.b[fit.run] = &fit;
+      pairing.configuration_b = fit.configuration;
+    }
+  }
+  std::stable_sort(result.begin(), result.end(), [](const Pairing& x, const Pairing& y) {
+    return x.first_point < y.first_point;
+  });
+  return result;
+}
+
+std::string metric_list(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) {
+    if (name != "fit_seconds") text += (text.empty() ? "" : ", ") + name;
+  }
+  return text;
+}
+
+}  // namespace
+
+std::string_view cell_state_name(CellState state) {
+  switch (state) {
+    case CellState::kPositive:
+      return "+";
+    case CellState::kNegative:
+      return "-";
+    case CellState::kNarrow:
+      return "narrow";
+    case CellState::kOpen:
+      return "open";
+    case CellState::kCapped:
+      return "capped";
+    case CellState::kFailed:
+      return "failed";
+  }
+  return "?";
+}
+
+std::int64_t AdaptiveState::open_cells() const {
+  return std::count_if(cells.begin(), cells.end(),
+                       [](const AdaptiveCell& cell) { return cell.state == CellState::kOpen; });
+}
+
+std::optional<MetricRange> metric_range(const AdaptiveRule& rule, std::string_view metric,
+                                        MetricKind kind) {
+  if (std::optional<MetricRange> declared = rule.declared_range(metric)) return declared;
+  if (kind == MetricKind::kRate || kind == MetricKind::kFraction) {
+    return MetricRange{std::string(metric), 0.0, 1.0};
+  }
+  return std::nullopt;
+}
+
+AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule& rule,
+                             std::int32_t configurations, std::int32_t max_runs,
+                             const std::function<MetricKind(std::string_view)>& kind_of) {
+  AdaptiveState state;
+  state.runs_wanted.assign(static_cast<std::size_t>(configurations),
+                           std::min(rule.batch, max_runs));
+  state.key_names.resize(rule.comparisons.size());
+  if (contents.fits.empty()) return state;  // look 1 has no runs yet
+
+  // The compared metrics' columns and ranges.
+  struct Compared {
+    std::size_t column = 0;
+    MetricRange range;
+  };
+  std::vector<Compared> compared;
+  for (const std::string& metric : rule.metrics) {
+    const auto at = std::find(contents.metric_names.begin(), contents.metric_names.end(), metric);
+    if (at == contents.metric_names.end() || metric == "fit_seconds") {
+      throw UsageError("[adaptive] metrics: the task reports no metric '" + metric +
+                       "' (its metrics: " + metric_list(contents.metric_names) + ")");
+    }
+    const std::optional<MetricRange> range = metric_range(rule, metric, kind_of(metric));
+    if (!range) {
+      throw UsageError("[adaptive] metrics: '" + metric +
+                       "' is no rate or fraction, so its range is unknown: give it as "
+                       "[adaptive.range] " + metric + " = [LOW, HIGH]");
+    }
+    compared.push_back({static_cast<std::size_t>(at - contents.metric_names.begin()), *range});
+  }
+
+  // Per comparison, its points of the other axes; each is one cell per metric.
+  std::vector<std::vector<Pairing>> points;
+  std::size_t cell_count = 0;
+  for (std::size_t c = 0; c < rule.comparisons.size(); ++c) {
+    points.push_back(pairings(contents, rule.comparisons[c], state.key_names[c]));
+    cell_count += points.back().size() * compared.size();
+  }
+  const double alpha = 1.0 - rule.level;
+  state.cell_level = rule.correction == AdaptiveCorrection::kBonferroni && cell_count > 0
+                         ? 1.0 - alpha / static_cast<double>(cell_count)
+                         : rule.level;
+
+  // The runs each configuration holds: 0 .. have[c] - 1 without a gap.
+  std::vector<std::set<std::int64_t>> runs_of(static_cast<std::size_t>(configurations));
+  for (const FitRow& fit : contents.fits) {
+    if (fit.configuration >= 0 && fit.configuration < configurations) {
+      runs_of[static_cast<std::size_t>(fit.configuration)].insert(fit.run);
+    }
+  }
+  const auto holds = [&](std::int32_t configuration, std::int32_t runs) {
+    const std::set<std::int64_t>& held = runs_of[static_cast<std::size_t>(configuration)];
+    for (std::int32_t r = 0; r < runs; ++r) {
+      if (held.count(r) == 0) return false;
+    }
+    return true;
+  };
+
+  // Judges every cell on the runs the current look gives its configurations.
+  const auto judge = [&](bool complete) {
+    state.cells.clear();
+    for (std::size_t c = 0; c < points.size(); ++c) {
+      for (const Pairing& pairing : points[c]) {
+        for (const Compared& metric : compared) {
+          AdaptiveCell cell;
+          cell.comparison = c;
+          cell.key = pairing.key;
+          cell.metric = contents.metric_names[metric.column];
+          cell.configuration_a = pairing.configuration_a;
+          cell.configuration_b = pairing.configuration_b;
+          std::int64_t n = 0;
+          if (cell.configuration_a >= 0 && cell.configuration_b >= 0) {
+            n = std::min(state.runs_wanted[static_cast<std::size_t>(cell.configuration_a)],
+                         state.runs_wanted[static_cast<std::size_t>(cell.configuration_b)]);
+          }
+          std::vector<double> differences;
+          bool failed = false;
+          for (std::int64_t r = 0; r < n; ++r) {
+            const auto a = pairing.a.find(r);
+            const auto b = pairing.b.find(r);
+            if (a == pairing.a.end() || b == pairing.b.end()) break;  // not yet computed
+            const double x = a->second->values[metric.column];
+            const double y = b->second->values[metric.column];
+            if (std::isnan(x) || std::isnan(y)) {
+              failed = true;
+              break;
+            }
+            for (const double v : {x, y}) {
+              if (!(v >= metric.range.low && v <= metric.range.high)) {
+                throw UsageError(
+                    "[adaptive] range: " + cell.metric + " = " + as_text(TableValue{v}) +
+                    " in run " + std::to_string(r) + " lies outside its range [" +
+                    as_text(TableValue{metric.range.low}) + ", " +
+                    as_text(TableValue{metric.range.high}) +
+                    "]: the range must hold every value (give the one the task's physics "
+                    "bounds it by)");
+              }
+            }
+            differences.push_back(x - y);
+          }
+          cell.runs = static_cast<std::int64_t>(differences.size());
+          const double width = metric.range.high - metric.range.low;
+          if (failed) {
+            cell.state = CellState::kFailed;
+          } else if (differences.empty()) {
+            cell.mean = cell.lower = cell.upper = std::nan("");
+          } else {
+            double sum = 0.0;
+            for (const double d : differences) sum += d;
+            cell.mean = sum / static_cast<double>(differences.size());
+            const kernels::ConfidenceSequence sequence =
+                kernels::confidence_sequence(differences, -width, width, state.cell_level);
+            cell.lower = sequence.lower.back();
+            cell.upper = sequence.upper.back();
+            if (rule.target == AdaptiveTarget::kSign && cell.lower > 0.0) {
+              cell.state = CellState::kPositive;
+            } else if (rule.target == AdaptiveTarget::kSign && cell.upper < 0.0) {
+              cell.state = CellState::kNegative;
+            } else if (rule.target == AdaptiveTarget::kWidth &&
+                       cell.upper - cell.lower < rule.width) {
+              cell.state = CellState::kNarrow;
+            }
+          }
+          if (cell.state == CellState::kOpen && complete && cell.runs >= max_runs) {
+            cell.state = CellState::kCapped;
+          }
+          state.cells.push_back(std::move(cell));
+        }
+      }
+    }
+  };
+
+  for (;;) {
+    bool complete = true;
+    for (std::int32_t c = 0; c < configurations; ++c) {
+      if (!holds(c, state.runs_wanted[static_cast<std::size_t>(c)])) complete = false;
+    }
+    judge(complete);
+    if (!complete) return state;  // the look's runs are being computed
+    std::vector<std::int32_t> next = state.runs_wanted;
+    for (const AdaptiveCell& cell : state.cells) {
+      if (cell.state != CellState::kOpen) continue;
+      const auto asked = static_cast<std::int32_t>(
+          std::min<std::int64_t>(cell.runs + rule.batch, max_runs));
+      for (const std::int32_t c : {cell.configuration_a, cell.configuration_b}) {
+        if (c >= 0) next[static_cast<std::size_t>(c)] = std::max(next[static_cast<std::size_t>(c)], asked);
+      }
+    }
+    if (next == state.runs_wanted) {
+      state.done = true;
+      return state;
+    }
+    state.runs_wanted = std::move(next);
+    ++state.looks;
+  }
+}
+
+}  // namespace ggk::engine

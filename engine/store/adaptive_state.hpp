@@ -1,0 +1,82 @@
+#pragma once
+// Where an adaptive study stands (issue 35; the rule: job/adaptive_rule.hpp), as
+// a function of its file's complete runs alone, never of timing, thread or rank
+// count: the runner asks it which runs the next look needs, `ggk info` shows its
+// cells.
+//
+// The looks are replayed from the start. Look 1 gives every run configuration
+// `batch` runs. Once every configuration has the runs of the look, each cell
+// (per comparison AXIS=A,B and metric, a point of the other axes: the fits that
+// differ only in AXIS) is judged on its paired differences A - B over runs
+// 0 .. n-1 (n: the runs both sides' configurations have): the anytime-valid
+// confidence sequence of their mean (kernels/confidence_sequence.hpp) at the
+// cell's level, its bounds from the metric's range. A cell is decided when the
+// interval leaves out 0 (target "sign": "+" or "-") or is narrower than `width`
+// (target "width": "narrow"); an undecided cell asks for `batch` more runs of
+// both its configurations, up to the job's runs ("capped" there). The next look
+// gives each configuration the most runs its open cells ask for; the study is
+// done when no cell asks for more. A cell with a failed fit (a NaN metric) in
+// its runs is "failed": it asks for nothing.
+//
+// The guarantee (Waudby-Smith & Ramdas 2023, Theorem 2, for independent runs):
+// with correction "bonferroni", the chance that any cell's final interval
+// misses its true mean difference (so any decided sign is wrong) is at most
+// 1 - level, however the looks went; each cell is judged at level
+// 1 - (1 - level) / cells. With "none", that holds for each cell on its own.
+//
+// Thread-safety: pure functions of plain data.
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/job/adaptive_rule.hpp"
+#include "engine/store/results_contents.hpp"
+#include "engine/tasks/run_record.hpp"
+
+namespace ggk::engine {
+
+enum class CellState { kPositive, kNegative, kNarrow, kOpen, kCapped, kFailed };
+// "+", "-", "narrow", "open", "capped", "failed".
+std::string_view cell_state_name(CellState state);
+
+struct AdaptiveCell {
+  std::size_t comparison = 0;    // index into the rule's comparisons
+  std::vector<std::string> key;  // the other axes' values (AdaptiveState::key_names)
+  std::string metric;
+  std::int32_t configuration_a = 0;  // the configurations of its two sides
+  std::int32_t configuration_b = 0;
+  std::int64_t runs = 0;  // paired runs judged (n)
+  double mean = 0.0;      // of the differences A - B over those runs (NaN: none)
+  double lower = 0.0;     // the confidence sequence after n runs
+  double upper = 0.0;
+  CellState state = CellState::kOpen;
+};
+
+struct AdaptiveState {
+  std::vector<AdaptiveCell> cells;  // comparison by comparison, then by point, then metric
+  std::vector<std::vector<std::string>> key_names;  // per comparison: the other axes' names
+  // Per configuration: the runs the current look gives it (runs 0 .. n-1).
+  std::vector<std::int32_t> runs_wanted;
+  std::int32_t looks = 1;   // the looks taken, the current one included
+  bool done = false;        // every configuration has its runs and no cell asks for more
+  double cell_level = 0.0;  // each cell's level (after the correction)
+  std::int64_t open_cells() const;
+};
+
+// The range [low, high] of one value of `metric`: the rule's [adaptive.range]
+// entry, else [0, 1] for a rate or a fraction (`kind`); nullopt when neither.
+std::optional<MetricRange> metric_range(const AdaptiveRule& rule, std::string_view metric,
+                                        MetricKind kind);
+
+// The state of the study with `configurations` run configurations, at most
+// `max_runs` runs each, whose file holds `contents`. `kind_of`: a metric's kind
+// in the file's task. Throws UsageError when a compared metric is no column of
+// the file, has no range, or a value lies outside its range (naming the run).
+AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule& rule,
+                             std::int32_t configurations, std::int32_t max_runs,
+                             const std::function<MetricKind(std::string_view)>& kind_of);
+
+}  // namespace ggk::engine

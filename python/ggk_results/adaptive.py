@@ -1,0 +1,160 @@
+"""An adaptive study's cells (issue 35; engine/store/adaptive_state.hpp is the
+C++ original, `ggk info --adaptive --csv` prints the same table): the looks
+replayed from the file's complete runs, each cell (per comparison AXIS=A,B and
+metric, a point of the other axes) judged by the anytime-valid confidence
+sequence of its paired differences A - B over runs 0 .. n-1."""
+
+import math
+import tomllib
+
+import h5py
+import numpy as np
+import pandas as pd
+
+from .intervals import is_rate
+from .results_file import summary_frame
+from .sequential import confidence_sequence
+
+# The columns of a summary that are no axis of a fit.
+NOT_AXES = ("run", "configuration", "sweep_point", "status")
+
+
+def adaptive_rule(path):
+    """The [adaptive] table of the job stored with the results file at `path`
+    (a dict), or None for a study of a fixed number of runs."""
+    with h5py.File(path, "r") as f:
+        job = f.attrs["job"]
+        runs = int(f.attrs["runs"])
+    job = job.decode() if isinstance(job, bytes) else job
+    table = tomllib.loads(job).get("adaptive")
+    if table is None:
+        return None
+    compare = table["compare"]
+    return {
+        "compare": [compare] if isinstance(compare, str) else list(compare),
+        "metrics": [table["metrics"]] if isinstance(table["metrics"], str) else list(table["metrics"]),
+        "target": table.get("target", "sign"),
+        "width": float(table.get("width", 0.0)),
+        "batch": int(table.get("batch", 5)),
+        "level": float(table.get("level", 0.95)),
+        "correction": table.get("correction", "bonferroni"),
+        "range": {k: (float(v[0]), float(v[1])) for k, v in table.get("range", {}).items()},
+        "max_runs": runs,
+    }
+
+
+def _same(stored, given):
+    if str(stored) == given:
+        return True
+    try:
+        return float(stored) == float(given)
+    except (TypeError, ValueError):
+        return False
+
+
+def adaptive_cells(path):
+    """The cells of the adaptive study at `path` as a DataFrame: compare, the other
+    axes, metric, state (+, -, narrow, open, capped, failed), runs, difference
+    (the mean), cs_low, cs_high; its attrs hold looks, done, runs_wanted (per
+    configuration) and cell_level."""
+    rule = adaptive_rule(path)
+    if rule is None:
+        raise ValueError(f"{path}: no adaptive study (its job has no [adaptive] table)")
+    frame = summary_frame(path)
+    with h5py.File(path, "r") as f:
+        task = f.attrs["task"]
+        task = task.decode() if isinstance(task, bytes) else task
+        configurations = max(1, sum(1 for k in f[task] if k.startswith("config_")))
+    if "configuration" not in frame.columns:
+        frame = frame.assign(configuration=0)
+    metric_columns = set(frame.columns[frame.columns.get_loc("status") + 1:])
+    axes = [c for c in frame.columns if c not in NOT_AXES and c not in metric_columns]
+    batch, max_runs = rule["batch"], rule["max_runs"]
+    wanted = [min(batch, max_runs)] * configurations
+    ranges = {}
+    for metric in rule["metrics"]:
+        if metric not in metric_columns or metric == "fit_seconds":
+            raise ValueError(f"{path}: the task reports no metric {metric!r}")
+        ranges[metric] = rule["range"].get(metric, (0.0, 1.0) if is_rate(metric) else None)
+        if ranges[metric] is None:
+            raise ValueError(f"{path}: {metric} has no range: give [adaptive.range]")
+    pairings = []  # (comparison, key, {run: row a}, {run: row b}, conf a, conf b)
+    for c, text in enumerate(rule["compare"]):
+        axis, values = text.split("=", 1)
+        a, b = values.split(",")
+        others = [x for x in axes if x != axis]
+        side_a = frame[[_same(v, a) for v in frame[axis]]]
+        side_b = frame[[_same(v, b) for v in frame[axis]]]
+        order = {}
+        for row in side_a.to_dict("records"):
+            key = tuple(str(row[o]) for o in others)
+            point = (int(row["configuration"]) << 32) + int(row["sweep_point"])
+            order[key] = min(order.get(key, point), point)
+        for key in sorted(order, key=order.get):
+            mask_a = np.all([side_a[o].astype(str) == k for o, k in zip(others, key)], axis=0)
+            mask_b = np.all([side_b[o].astype(str) == k for o, k in zip(others, key)], axis=0)
+            rows_a, rows_b = side_a[mask_a].set_index("run"), side_b[mask_b].set_index("run")
+            pairings.append((c, others, key, rows_a, rows_b,
+                             int(rows_a["configuration"].iloc[0]),
+                             int(rows_b["configuration"].iloc[0]) if len(rows_b) else -1))
+    count = len(pairings) * len(rule["metrics"])
+    alpha = 1.0 - rule["level"]
+    cell_level = 1.0 - alpha / count if rule["correction"] == "bonferroni" and count else rule["level"]
+    held = [set(frame[frame["configuration"] == c]["run"]) for c in range(configurations)]
+    looks = 1
+    while True:
+        complete = all(all(r in held[c] for r in range(wanted[c])) for c in range(configurations))
+        cells = []
+        for c, others, key, rows_a, rows_b, conf_a, conf_b in pairings:
+            for metric in rule["metrics"]:
+                low, high = ranges[metric]
+                width = high - low
+                n = min(wanted[conf_a], wanted[conf_b]) if conf_b >= 0 else 0
+                differences, failed = [], False
+                for r in range(n):
+                    if r not in rows_a.index or r not in rows_b.index:
+                        break
+                    x, y = float(rows_a.at[r, metric]), float(rows_b.at[r, metric])
+                    if math.isnan(x) or math.isnan(y):
+                        failed = True
+                        break
+                    differences.append(x - y)
+                state, mean, lower, upper = "open", math.nan, math.nan, math.nan
+                if failed:
+                    state = "failed"
+                elif differences:
+                    mean = sum(differences) / len(differences)
+                    lows, highs = confidence_sequence(differences, -width, width, cell_level)
+                    lower, upper = lows[-1], highs[-1]
+                    if rule["target"] == "sign" and lower > 0:
+                        state = "+"
+                    elif rule["target"] == "sign" and upper < 0:
+                        state = "-"
+                    elif rule["target"] == "width" and upper - lower < rule["width"]:
+                        state = "narrow"
+                if state == "open" and complete and len(differences) >= max_runs:
+                    state = "capped"
+                axis_text = rule["compare"][c].split("=", 1)
+                sides = axis_text[1].split(",")
+                cells.append({"compare": f"{axis_text[0]} {sides[0]} - {sides[1]}",
+                              **dict(zip(others, key)), "metric": metric, "state": state,
+                              "runs": len(differences), "difference": mean, "cs_low": lower,
+                              "cs_high": upper, "_confs": (conf_a, conf_b)})
+        done = False
+        if complete:
+            following = list(wanted)
+            for cell in cells:
+                if cell["state"] != "open":
+                    continue
+                asked = min(cell["runs"] + batch, max_runs)
+                for conf in cell["_confs"]:
+                    if conf >= 0:
+                        following[conf] = max(following[conf], asked)
+            if following == wanted:
+                done = True
+            else:
+                wanted, looks = following, looks + 1
+                continue
+        table = pd.DataFrame([{k: v for k, v in cell.items() if k != "_confs"} for cell in cells])
+        table.attrs.update(looks=looks, done=done, runs_wanted=wanted, cell_level=cell_level)
+        return table

@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# Adaptive studies (engine/run/adaptive_runner.hpp) through the real ggk binary.
+# One case per call (tests/CMakeLists.txt):
+#   looks      jobs/ci-adaptive.toml runs its looks until no cell asks for more:
+#              `info --adaptive` shows each cell decided with the runs it took,
+#              the file holds exactly the runs the rule asked for, and -j 1
+#              equals -j 2 (ggk diff)
+#   resume     Ctrl-C mid-study, then the printed command, equals the study run
+#              at once; so does a study capped at 10 runs grown by --resume to
+#              the job's 60 (each look is a growth by runs)
+#   refusals   a rule the study cannot follow is refused before anything runs,
+#              exit 2, naming the key: an axis not swept, a value not on it, a
+#              batch above runs, a metric with no known range, a metric the
+#              task lacks (at the first look); --shard and --runs
+# Environment: GGK (the binary), GGK_SOURCE_DIR.
+set -euo pipefail
+case_name=$1
+scratch=$(mktemp -d "${TMPDIR:-/tmp}/ggk-adaptive-XXXXXX")
+trap 'rm -rf "$scratch"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+status_of() { local s=0; "$@" >"$scratch/out" 2>"$scratch/err" || s=$?; echo $s; }
+
+mkdir -p "$scratch/maps"
+cp "$GGK_SOURCE_DIR/jobs/maps/four-rooms.txt" "$scratch/maps/"
+job="$scratch/ci-adaptive.toml"
+cp "$GGK_SOURCE_DIR/jobs/ci-adaptive.toml" "$job"
+
+case $case_name in
+looks)
+  "$GGK" run "$job" -q -j 2 -o "$scratch/a.h5"
+  "$GGK" info --adaptive "$scratch/a.h5" >"$scratch/cells"
+  grep -q "done: 2 of 2 cells decided (+ 2, - 0), 0 open, 0 capped" "$scratch/cells" ||
+    fail "cells: $(cat "$scratch/cells")"
+  # The runs the rule asked for, and no more.
+  wanted=$(sed -n 's/.*runs per configuration \([0-9, ]*\) (\([0-9]*\) of.*/\2/p' "$scratch/cells")
+  [ -n "$wanted" ] && [ "$wanted" -lt 120 ] || fail "runs per configuration: $(cat "$scratch/cells")"
+  "$GGK" info "$scratch/a.h5" | grep -q "^runs:     $wanted of 120 complete" ||
+    fail "the file holds other runs than $wanted: $("$GGK" info "$scratch/a.h5" | grep runs:)"
+  "$GGK" run "$job" -q -j 1 -o "$scratch/b.h5"
+  "$GGK" diff "$scratch/a.h5" "$scratch/b.h5" >/dev/null || fail "-j 1 differs from -j 2"
+  ;;
+resume)
+  "$GGK" run "$job" -q -j 2 -o "$scratch/ref.h5"
+  out="$scratch/cut.h5"
+  set -m  # job control: SIGINT not ignored (as a background job of a script starts)
+  "$GGK" run "$job" -j 1 -o "$out" 2>"$scratch/err" & pid=$!
+  set +m
+  deadline=$((SECONDS + 240))
+  until [ -e "$out" ] || [ "$SECONDS" -ge "$deadline" ]; do sleep 0.05; done
+  [ -e "$out" ] || fail "no run written in 240 s"
+  kill -INT $pid
+  s=0; wait $pid || s=$?
+  [ "$s" = 130 ] || fail "SIGINT: status $s: $(cat "$scratch/err")"
+  command=$(grep -o 'with `[^`]*`' "$scratch/err" | head -n 1 | sed 's/^with `//; s/`$//')
+  bash -c "$command" 2>"$scratch/resume-err" || fail "the printed command failed: $(cat "$scratch/resume-err")"
+  "$GGK" diff "$scratch/ref.h5" "$out" >/dev/null || fail "the resumed study differs"
+  # Capped at 10 runs: every cell capped or decided within 10; then grown.
+  "$GGK" run "$job" -q --set runs=10 -o "$scratch/grown.h5"
+  "$GGK" info --adaptive "$scratch/grown.h5" | grep -q "capped" || fail "runs = 10 capped nothing"
+  "$GGK" run "$job" -q --resume -o "$scratch/grown.h5"
+  "$GGK" diff "$scratch/ref.h5" "$scratch/grown.h5" >/dev/null || fail "the grown study differs"
+  ;;
+refusals)
+  expect_refusal() {  # what-to-find, ggk arguments...
+    local find=$1; shift
+    local s; s=$(status_of "$GGK" "$@")
+    [ "$s" = 2 ] && grep -q -- "$find" "$scratch/err" ||
+      fail "$*: status $s, expected 2 naming '$find': $(cat "$scratch/err")"
+  }
+  expect_refusal "no axis 'kernel'" validate "$job" -o "$scratch/v.h5" --set 'adaptive.compare="kernel=4,8"'
+  expect_refusal "has no value 'pvf'" validate "$job" -o "$scratch/v.h5" --set 'adaptive.compare="basis=ggk,pvf"'
+  expect_refusal "adaptive.batch" validate "$job" -o "$scratch/v.h5" --set adaptive.batch=61
+  expect_refusal "\[adaptive.range\] mean_steps_to_goal" validate "$job" -o "$scratch/v.h5" \
+    --set 'adaptive.metrics=["mean_steps_to_goal"]'
+  expect_refusal "no metric 'succes_rate'" run "$job" -q -o "$scratch/m.h5" \
+    --set 'adaptive.metrics=["succes_rate"]' --set 'adaptive.range.succes_rate=[0.0, 1.0]'
+  expect_refusal "run it whole" run "$job" -q -o "$scratch/s.h5" --shard 0/2
+  expect_refusal "run it whole" run "$job" -q -o "$scratch/s.h5" --runs 0:5
+  sed '/^\[adaptive\]/,/^correction/d' "$job" >"$scratch/fixed.toml"
+  "$GGK" run "$scratch/fixed.toml" -q --set runs=2 -o "$scratch/fixed.h5"
+  expect_refusal "is no adaptive study" info --adaptive "$scratch/fixed.h5"
+  ;;
+*)
+  fail "unknown case $case_name"
+  ;;
+esac

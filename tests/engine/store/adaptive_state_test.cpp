@@ -1,0 +1,141 @@
+// An adaptive study's state (engine/store/adaptive_state.hpp) from hand-made
+// contents: the looks replayed, each cell's decision, and what is refused.
+#include "engine/store/adaptive_state.hpp"
+
+#include <cmath>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "engine/job/usage_error.hpp"
+
+namespace ggk::engine {
+namespace {
+
+// A study of one or two configurations, fits ggk and ogk at kernels 8; run r
+// of configuration c has success_rate a(c, r) for ggk and b(c, r) for ogk.
+ResultsContents contents_of(std::int32_t configurations, std::int32_t runs,
+                            const std::function<double(int, int)>& a,
+                            const std::function<double(int, int)>& b) {
+  ResultsContents contents;
+  contents.axis_names = {"basis", "kernels", "slip"};
+  contents.metric_names = {"success_rate", "fit_seconds"};
+  contents.configurations = static_cast<std::size_t>(configurations);
+  for (std::int32_t c = 0; c < configurations; ++c) {
+    for (std::int32_t r = 0; r < runs; ++r) {
+      for (int side = 0; side < 2; ++side) {
+        FitRow row;
+        row.run = r;
+        row.configuration = c;
+        row.point = (static_cast<std::int64_t>(c) << 32) + side;
+        row.key = {side == 0 ? "ggk" : "ogk", "8", c == 0 ? "0" : "0.1"};
+        row.values = {side == 0 ? a(c, r) : b(c, r), 0.01};
+        contents.fits.push_back(row);
+      }
+    }
+  }
+  return contents;
+}
+
+AdaptiveRule rule_of(std::int32_t batch) {
+  AdaptiveRule rule;
+  rule.comparisons = {{"basis", "ggk", "ogk"}};
+  rule.metrics = {"success_rate"};
+  rule.batch = batch;
+  return rule;
+}
+
+MetricKind fraction(std::string_view) { return MetricKind::kFraction; }
+
+TEST(AdaptiveState, LookOneAsksForABatchOfEveryConfiguration) {
+  const AdaptiveState empty = adaptive_state({}, rule_of(5), 2, 40, fraction);
+  EXPECT_EQ(empty.runs_wanted, (std::vector<std::int32_t>{5, 5}));
+  EXPECT_FALSE(empty.done);
+  // Three runs of five: the look goes on, nothing is judged beyond them.
+  const ResultsContents three = contents_of(2, 3, [](int, int) { return 1.0; },
+                                            [](int, int) { return 0.0; });
+  const AdaptiveState partial = adaptive_state(three, rule_of(5), 2, 40, fraction);
+  EXPECT_EQ(partial.runs_wanted, (std::vector<std::int32_t>{5, 5}));
+  EXPECT_EQ(partial.looks, 1);
+  EXPECT_FALSE(partial.done);
+  ASSERT_EQ(partial.cells.size(), 2u);
+  EXPECT_EQ(partial.cells[0].state, CellState::kOpen);
+  EXPECT_EQ(partial.cells[0].runs, 3);
+}
+
+TEST(AdaptiveState, AClearEffectIsDecidedAndStopsItsConfigurationOnly) {
+  // Configuration 0: ggk always succeeds, ogk never (decided early);
+  // configuration 1: the same success for both (never decided: capped).
+  const auto a = [](int c, int r) { return c == 0 ? 1.0 : (r % 2 == 0 ? 0.75 : 0.25); };
+  const auto b = [](int c, int r) { return c == 0 ? 0.0 : (r % 2 == 0 ? 0.25 : 0.75); };
+  const AdaptiveState state = adaptive_state(contents_of(2, 40, a, b), rule_of(5), 2, 40, fraction);
+  ASSERT_TRUE(state.done);
+  ASSERT_EQ(state.cells.size(), 2u);
+  EXPECT_DOUBLE_EQ(state.cell_level, 1.0 - 0.05 / 2.0);  // Bonferroni over 2 cells
+  EXPECT_EQ(state.cells[0].state, CellState::kPositive);
+  EXPECT_EQ(state.cells[0].key, (std::vector<std::string>{"8", "0"}));
+  EXPECT_LT(state.runs_wanted[0], 40);
+  EXPECT_EQ(state.cells[0].runs, state.runs_wanted[0]);
+  EXPECT_DOUBLE_EQ(state.cells[0].mean, 1.0);
+  EXPECT_GT(state.cells[0].lower, 0.0);
+  EXPECT_EQ(state.cells[1].state, CellState::kCapped);
+  EXPECT_EQ(state.runs_wanted[1], 40);
+  EXPECT_EQ(state.cells[1].runs, 40);
+  // Decided one batch earlier than it was: runs_wanted[0] - 5 runs did not do.
+  const std::int32_t decided_at = state.runs_wanted[0];
+  const AdaptiveState earlier =
+      adaptive_state(contents_of(2, decided_at - 5, a, b), rule_of(5), 2, 40, fraction);
+  EXPECT_EQ(earlier.cells[0].state, CellState::kOpen);
+  // Runs beyond a look's are not judged: the state is that of the file's prefix.
+  EXPECT_EQ(earlier.runs_wanted[0], decided_at);
+}
+
+TEST(AdaptiveState, ANegativeEffectAndAWidthTarget) {
+  const auto low = [](int, int r) { return r % 3 == 0 ? 0.2 : 0.1; };
+  const auto high = [](int, int r) { return r % 3 == 0 ? 0.9 : 1.0; };
+  const AdaptiveState negative =
+      adaptive_state(contents_of(1, 60, low, high), rule_of(5), 1, 60, fraction);
+  ASSERT_TRUE(negative.done);
+  EXPECT_EQ(negative.cells[0].state, CellState::kNegative);
+  EXPECT_LT(negative.cells[0].upper, 0.0);
+  AdaptiveRule width = rule_of(5);
+  width.target = AdaptiveTarget::kWidth;
+  width.width = 1.0;
+  const AdaptiveState narrow = adaptive_state(contents_of(1, 60, low, high), width, 1, 60, fraction);
+  ASSERT_TRUE(narrow.done);
+  EXPECT_EQ(narrow.cells[0].state, CellState::kNarrow);
+  EXPECT_LT(narrow.cells[0].upper - narrow.cells[0].lower, 1.0);
+}
+
+TEST(AdaptiveState, AFailedFitStopsItsCell) {
+  const auto a = [](int, int r) { return r == 2 ? std::nan("") : 0.5; };
+  const AdaptiveState state = adaptive_state(
+      contents_of(1, 5, a, [](int, int) { return 0.5; }), rule_of(5), 1, 40, fraction);
+  EXPECT_TRUE(state.done);
+  EXPECT_EQ(state.cells[0].state, CellState::kFailed);
+}
+
+TEST(AdaptiveState, RefusesWhatItCannotJudge) {
+  const ResultsContents contents =
+      contents_of(1, 5, [](int, int) { return 0.5; }, [](int, int) { return 0.5; });
+  AdaptiveRule unknown = rule_of(5);
+  unknown.metrics = {"succes_rate"};
+  EXPECT_THROW(adaptive_state(contents, unknown, 1, 40, fraction), UsageError);
+  const auto mean = [](std::string_view) { return MetricKind::kMean; };
+  EXPECT_THROW(adaptive_state(contents, rule_of(5), 1, 40, mean), UsageError);  // no range
+  AdaptiveRule narrow_range = rule_of(5);
+  narrow_range.ranges = {{"success_rate", 0.0, 0.25}};  // 0.5 lies outside
+  try {
+    adaptive_state(contents, narrow_range, 1, 40, mean);
+    FAIL() << "a value outside the range was accepted";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("run 0 lies outside its range"), std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace ggk::engine

@@ -1,0 +1,65 @@
+"""ggk_results.adaptive_cells (the Python twin of engine/store/adaptive_state.hpp)
+against `ggk info --adaptive --csv` on jobs/ci-adaptive.toml run by the binary:
+the same cells, states, runs and confidence-sequence bounds (to 1e-12), and a
+study grown by --resume that the twin reads partway."""
+
+import io
+import shutil
+
+import support
+
+support.require("numpy", "pandas", "h5py")
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from ggk_results import adaptive_cells, adaptive_rule  # noqa: E402
+
+
+class AdaptiveCells(support.Scratch):
+    def setUp(self):
+        super().setUp()
+        (self.dir / "maps").mkdir()
+        shutil.copy(support.SOURCE / "jobs" / "maps" / "four-rooms.txt", self.dir / "maps")
+        self.job = self.dir / "ci-adaptive.toml"
+        shutil.copy(support.SOURCE / "jobs" / "ci-adaptive.toml", self.job)
+
+    def run_job(self, output, *options):
+        done = support.run_ggk("run", self.job, "-q", "-o", output, *options)
+        self.assertEqual(done.returncode, 0, done.stderr)
+
+    def assert_twins_agree(self, output):
+        done = support.run_ggk("info", "--adaptive", "--csv", output)
+        self.assertEqual(done.returncode, 0, done.stderr)
+        ours = pd.read_csv(io.StringIO(done.stdout))
+        theirs = adaptive_cells(output)
+        self.assertEqual(len(ours), len(theirs))
+        for column in ("compare", "metric", "state"):
+            self.assertEqual(ours[column].astype(str).tolist(), theirs[column].astype(str).tolist())
+        self.assertEqual(ours["runs"].tolist(), theirs["runs"].tolist())
+        for column in ("kernels", "maze.slip", "difference", "cs_low", "cs_high"):
+            np.testing.assert_allclose(ours[column].astype(float), theirs[column].astype(float),
+                                       rtol=0, atol=1e-12, err_msg=column)
+        return theirs
+
+    def test_the_twin_reads_the_engines_cells(self):
+        output = self.dir / "a.h5"
+        self.run_job(output)
+        cells = self.assert_twins_agree(output)
+        self.assertTrue(cells.attrs["done"])
+        self.assertEqual(set(cells["state"]), {"+"})
+        self.assertLess(sum(cells.attrs["runs_wanted"]), 120)
+        self.assertEqual(adaptive_rule(output)["compare"], ["basis=ggk,ogk"])
+
+    def test_a_capped_study_and_its_growth(self):
+        output = self.dir / "g.h5"
+        self.run_job(output, "--set", "runs=10")
+        capped = self.assert_twins_agree(output)
+        self.assertIn("capped", set(capped["state"]))
+        self.assertEqual(capped.attrs["runs_wanted"], [10, 10])
+        self.run_job(output, "--resume")
+        self.assert_twins_agree(output)
+
+
+if __name__ == "__main__":
+    import unittest
+    unittest.main()
