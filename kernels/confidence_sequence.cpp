@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <limits>
 #include <string>
+
+#include <boost/math/distributions/normal.hpp>
+#include <boost/math/distributions/students_t.hpp>
 
 namespace ggk::kernels {
 
@@ -52,6 +56,50 @@ ConfidenceSequence confidence_sequence(std::span<const double> values, double lo
     sum_squares += (y - mu) * (y - mu);
     mu_before = mu;
     s2_before = (0.25 + sum_squares) / (t + 1.0);
+  }
+  return cs;
+}
+
+ConfidenceSequence asymptotic_confidence_sequence(std::span<const double> values, double level,
+                                                  std::int64_t horizon) {
+  if (!(level > 0.0 && level < 1.0)) {
+    throw std::invalid_argument("asymptotic_confidence_sequence: level must be in (0, 1)");
+  }
+  if (horizon < 1) {
+    throw std::invalid_argument("asymptotic_confidence_sequence: the horizon must be at least 1");
+  }
+  const double alpha = 1.0 - level;
+  const double rho2 =
+      (-2.0 * std::log(alpha) + std::log(-2.0 * std::log(alpha) + 1.0)) / static_cast<double>(horizon);
+  const double z = boost::math::quantile(boost::math::normal(), 1.0 - alpha / 2.0);
+  const double infinity = std::numeric_limits<double>::infinity();
+  ConfidenceSequence cs;
+  cs.lower.reserve(values.size());
+  cs.upper.reserve(values.size());
+  double mean = 0.0, squares = 0.0;  // Welford: the mean and sum of squared deviations
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double x = values[i];
+    if (!std::isfinite(x)) {
+      throw std::invalid_argument("asymptotic_confidence_sequence: value " + std::to_string(i) +
+                                  " is not finite");
+    }
+    const double t = static_cast<double>(i + 1);
+    const double delta = x - mean;
+    mean += delta / t;
+    squares += delta * (x - mean);
+    if (i == 0) {
+      cs.lower.push_back(-infinity);
+      cs.upper.push_back(infinity);
+      continue;
+    }
+    const double sd = std::sqrt(squares / (t - 1.0));
+    const double q = boost::math::quantile(boost::math::students_t(t - 1.0), 1.0 - alpha / 2.0);
+    const double half = sd *
+                        std::sqrt(2.0 * (t * rho2 + 1.0) / (t * t * rho2) *
+                                  std::log(std::sqrt(t * rho2 + 1.0) / alpha)) *
+                        q / z;
+    cs.lower.push_back(mean - half);
+    cs.upper.push_back(mean + half);
   }
   return cs;
 }

@@ -24,6 +24,7 @@
 // of sets that all hold at once), mapped back to [low, high].
 //
 // Thread-safety: a pure function.
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -38,5 +39,29 @@ struct ConfidenceSequence {
 // a value lies outside [low, high], or level is not in (0, 1).
 ConfidenceSequence confidence_sequence(std::span<const double> values, double low, double high,
                                        double level);
+
+// The asymptotic confidence sequence (AsympCS) of Waudby-Smith, Arnold, Wu, Chang
+// & Ramdas (2024, "Time-uniform central limit theory and asymptotic confidence
+// sequences", Ann. Statist. 52(6)), its two-sided normal-mixture boundary with
+// the variance estimated: no range needed, for means whose
+// range is wide against their spread, where the bounded sequence above pays
+// for the range (its radius is at least 2 log(2 / alpha) / t of it). With
+// alpha = 1 - level, rho^2 = (-2 log alpha + log(-2 log alpha + 1)) / horizon
+// (the tightest at t = horizon, the most runs a cell gets), the sample mean m_t
+// and standard deviation s_t (divisor t - 1):
+//   m_t -+ s_t sqrt(2 (t rho^2 + 1) / (t^2 rho^2) log(sqrt(t rho^2 + 1) / alpha))
+//         * q_t / z,
+// where q_t / z, Student's t quantile 1 - alpha/2 at t - 1 degrees of freedom over
+// the normal one, widens it at small t as Student's t widens the z interval
+// (ggk's addition: tests/python/test_confidence_sequence.py measures both ways).
+// Bounds after the first value are infinite. Not intersected over t.
+//
+// The guarantee is asymptotic, as a t interval's is: coverage at every t at once
+// tends to `level` as the start time grows, for any distribution with a finite
+// variance; at small t and for skewed values it can fall short (the simulation
+// gives the numbers). Throws std::invalid_argument for a value that is not
+// finite, a level outside (0, 1) or a horizon below 1.
+ConfidenceSequence asymptotic_confidence_sequence(std::span<const double> values, double level,
+                                                  std::int64_t horizon);
 
 }  // namespace ggk::kernels

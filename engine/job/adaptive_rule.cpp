@@ -13,8 +13,9 @@
 namespace ggk::engine {
 namespace {
 
-constexpr std::array<std::string_view, 8> kAdaptiveKeys = {
-    "compare", "metrics", "target", "width", "batch", "level", "correction", "range"};
+constexpr std::array<std::string_view, 9> kAdaptiveKeys = {
+    "compare", "metrics", "target", "width", "batch", "level", "correction", "method", "range"};
+constexpr std::array<std::string_view, 2> kMethodNames = {"bernstein", "asymptotic"};
 constexpr std::array<std::string_view, 2> kTargetNames = {"sign", "width"};
 constexpr std::array<std::string_view, 2> kCorrectionNames = {"bonferroni", "none"};
 
@@ -112,6 +113,9 @@ std::optional<AdaptiveRule> parse_adaptive_table(const TomlTableReader& job, std
                             "bonferroni"
                         ? AdaptiveCorrection::kBonferroni
                         : AdaptiveCorrection::kNone;
+  rule.method = table->choice("method", kMethodNames, std::string("bernstein")) == "bernstein"
+                    ? AdaptiveMethod::kBernstein
+                    : AdaptiveMethod::kAsymptotic;
   if (const toml::node* node = table->find("range")) {
     const auto* ranges = node->as_table();
     if (ranges == nullptr) {

@@ -11,8 +11,11 @@
 //   batch = 5                        # runs per configuration per look
 //   level = 0.95                     # the confidence of all decisions together
 //   correction = "bonferroni"        # over the cells ("none": each cell at `level`)
-//   [adaptive.range]                 # each compared metric's range where the task
-//   mean_return = [-20.0, 10.0]      #   does not know it (rates and fractions: [0, 1])
+//   method = "bernstein"             # the confidence sequence: "bernstein" (needs each
+//                                    #   metric's range) or "asymptotic" (needs none)
+//   [adaptive.range]                 # "bernstein": each compared metric's range where
+//   mean_return = [-2.0, 150.0]      #   the task does not know it (rates and
+//                                    #   fractions: [0, 1])
 //
 // A cell is a point of the other axes: the pair of fits that differ only in the
 // compared axis, for one metric. Its paired differences over runs 0, 1, ... are
@@ -50,6 +53,11 @@ struct MetricRange {
 
 enum class AdaptiveTarget { kSign, kWidth };
 enum class AdaptiveCorrection { kBonferroni, kNone };
+// The confidence sequence a cell is judged by (kernels/confidence_sequence.hpp):
+// the empirical-Bernstein one, valid at every number of runs for values in a
+// known range; or the asymptotic one, which needs no range and is valid as the
+// runs grow (as a t interval is).
+enum class AdaptiveMethod { kBernstein, kAsymptotic };
 
 struct AdaptiveRule {
   std::vector<AdaptiveComparison> comparisons;  // at least one
@@ -60,6 +68,7 @@ struct AdaptiveRule {
   std::int32_t batch = 5;
   double level = 0.95;
   AdaptiveCorrection correction = AdaptiveCorrection::kBonferroni;
+  AdaptiveMethod method = AdaptiveMethod::kBernstein;
 
   // The declared range of `metric`, or nullopt.
   std::optional<MetricRange> declared_range(std::string_view metric) const;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
+#include <optional>
 #include <map>
 #include <set>
 #include <string>
@@ -139,11 +141,16 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
       throw UsageError("[adaptive] metrics: the task reports no metric '" + metric +
                        "' (its metrics: " + metric_list(contents.metric_names) + ")");
     }
-    const std::optional<MetricRange> range = metric_range(rule, metric, kind_of(metric));
+    std::optional<MetricRange> range = metric_range(rule, metric, kind_of(metric));
+    if (!range && rule.method == AdaptiveMethod::kAsymptotic) {  // any value goes
+      range = MetricRange{metric, -std::numeric_limits<double>::infinity(),
+                          std::numeric_limits<double>::infinity()};
+    }
     if (!range) {
       throw UsageError("[adaptive] metrics: '" + metric +
                        "' is no rate or fraction, so its range is unknown: give it as "
-                       "[adaptive.range] " + metric + " = [LOW, HIGH]");
+                       "[adaptive.range] " + metric + " = [LOW, HIGH] (or method = "
+                       "\"asymptotic\", which needs none)");
     }
     compared.push_back({static_cast<std::size_t>(at - contents.metric_names.begin()), *range});
   }
@@ -175,12 +182,18 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
     return true;
   };
 
-  // Judges every cell on the runs the current look gives its configurations.
+  // Judges every cell on the runs the current look gives its configurations. A
+  // cell decided at a complete look stays as it was then (the rule stopped it).
+  std::vector<std::optional<AdaptiveCell>> decided(cell_count);
   const auto judge = [&](bool complete) {
     state.cells.clear();
     for (std::size_t c = 0; c < points.size(); ++c) {
       for (const Pairing& pairing : points[c]) {
         for (const Compared& metric : compared) {
+          if (const std::optional<AdaptiveCell>& earlier = decided[state.cells.size()]) {
+            state.cells.push_back(*earlier);
+            continue;
+          }
           AdaptiveCell cell;
           cell.comparison = c;
           cell.key = pairing.key;
@@ -228,7 +241,10 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
             for (const double d : differences) sum += d;
             cell.mean = sum / static_cast<double>(differences.size());
             const kernels::ConfidenceSequence sequence =
-                kernels::confidence_sequence(differences, -width, width, state.cell_level);
+                rule.method == AdaptiveMethod::kBernstein
+                    ? kernels::confidence_sequence(differences, -width, width, state.cell_level)
+                    : kernels::asymptotic_confidence_sequence(differences, state.cell_level,
+                                                              max_runs);
             cell.lower = sequence.lower.back();
             cell.upper = sequence.upper.back();
             if (rule.target == AdaptiveTarget::kSign && cell.lower > 0.0) {
@@ -243,6 +259,10 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
           if (cell.state == CellState::kOpen && complete && cell.runs >= max_runs) {
             cell.state = CellState::kCapped;
           }
+          const bool stops = cell.state == CellState::kPositive ||
+                             cell.state == CellState::kNegative ||
+                             cell.state == CellState::kNarrow;
+          if (complete && stops) decided[state.cells.size()] = cell;
           state.cells.push_back(std::move(cell));
         }
       }

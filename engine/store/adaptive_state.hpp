@@ -8,21 +8,27 @@
 // `batch` runs. Once every configuration has the runs of the look, each cell
 // (per comparison AXIS=A,B and metric, a point of the other axes: the fits that
 // differ only in AXIS) is judged on its paired differences A - B over runs
-// 0 .. n-1 (n: the runs both sides' configurations have): the anytime-valid
-// confidence sequence of their mean (kernels/confidence_sequence.hpp) at the
-// cell's level, its bounds from the metric's range. A cell is decided when the
-// interval leaves out 0 (target "sign": "+" or "-") or is narrower than `width`
-// (target "width": "narrow"); an undecided cell asks for `batch` more runs of
+// 0 .. n-1 (n: the runs both sides' configurations have): the confidence
+// sequence of their mean (kernels/confidence_sequence.hpp; method "bernstein":
+// the empirical-Bernstein one, its bounds from the metric's range; "asymptotic":
+// the asymptotic one, tightest at the job's runs) at the cell's level. A cell is
+// decided when the interval leaves out 0 (target "sign": "+" or "-") or is
+// narrower than `width` (target "width": "narrow"), and stays as it was at that
+// look (its runs, mean and bounds then), however many runs its configurations
+// get later for other cells; an undecided cell asks for `batch` more runs of
 // both its configurations, up to the job's runs ("capped" there). The next look
 // gives each configuration the most runs its open cells ask for; the study is
 // done when no cell asks for more. A cell with a failed fit (a NaN metric) in
 // its runs is "failed": it asks for nothing.
 //
-// The guarantee (Waudby-Smith & Ramdas 2023, Theorem 2, for independent runs):
-// with correction "bonferroni", the chance that any cell's final interval
-// misses its true mean difference (so any decided sign is wrong) is at most
-// 1 - level, however the looks went; each cell is judged at level
-// 1 - (1 - level) / cells. With "none", that holds for each cell on its own.
+// The guarantee, "bernstein" (Waudby-Smith & Ramdas 2023, Theorem 2, for
+// independent runs): with correction "bonferroni", the chance that any cell's
+// interval misses its true mean difference at any look (so that any decided
+// sign is wrong) is at most 1 - level, however the looks went; each cell is
+// judged at level 1 - (1 - level) / cells. With "none", that holds for each
+// cell on its own. "asymptotic" (Waudby-Smith, Arnold, Wu, Chang & Ramdas 2024):
+// the same as the runs grow, as for a t interval; tests/python/
+// test_confidence_sequence.py measures it at the looks a study takes.
 //
 // Thread-safety: pure functions of plain data.
 #include <cstdint>

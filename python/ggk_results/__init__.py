@@ -12,7 +12,7 @@ from .intervals import (INDICATORS, is_indicator, is_rate, mean_ci, metric_ci,
 from .paired import paired
 from .results_file import Results, fit, open_results, summary_frame
 from .runs import complete_runs, run_group, run_locations
-from .sequential import confidence_sequence
+from .sequential import asymptotic_confidence_sequence, confidence_sequence
 from .tables import AXES, PartialResultsWarning, read_summary, select_where, task_of
 
 __version__ = "0.1.0"

@@ -13,7 +13,7 @@ import pandas as pd
 
 from .intervals import is_rate
 from .results_file import summary_frame
-from .sequential import confidence_sequence
+from .sequential import asymptotic_confidence_sequence, confidence_sequence
 
 # The columns of a summary that are no axis of a fit.
 NOT_AXES = ("run", "configuration", "sweep_point", "status")
@@ -38,6 +38,7 @@ def adaptive_rule(path):
         "batch": int(table.get("batch", 5)),
         "level": float(table.get("level", 0.95)),
         "correction": table.get("correction", "bonferroni"),
+        "method": table.get("method", "bernstein"),
         "range": {k: (float(v[0]), float(v[1])) for k, v in table.get("range", {}).items()},
         "max_runs": runs,
     }
@@ -76,6 +77,8 @@ def adaptive_cells(path):
         if metric not in metric_columns or metric == "fit_seconds":
             raise ValueError(f"{path}: the task reports no metric {metric!r}")
         ranges[metric] = rule["range"].get(metric, (0.0, 1.0) if is_rate(metric) else None)
+        if ranges[metric] is None and rule["method"] == "asymptotic":
+            ranges[metric] = (-math.inf, math.inf)
         if ranges[metric] is None:
             raise ValueError(f"{path}: {metric} has no range: give [adaptive.range]")
     pairings = []  # (comparison, key, {run: row a}, {run: row b}, conf a, conf b)
@@ -102,11 +105,15 @@ def adaptive_cells(path):
     cell_level = 1.0 - alpha / count if rule["correction"] == "bonferroni" and count else rule["level"]
     held = [set(frame[frame["configuration"] == c]["run"]) for c in range(configurations)]
     looks = 1
+    decided = {}  # cell index -> the cell as a complete look decided it
     while True:
         complete = all(all(r in held[c] for r in range(wanted[c])) for c in range(configurations))
         cells = []
         for c, others, key, rows_a, rows_b, conf_a, conf_b in pairings:
             for metric in rule["metrics"]:
+                if len(cells) in decided:
+                    cells.append(decided[len(cells)])
+                    continue
                 low, high = ranges[metric]
                 width = high - low
                 n = min(wanted[conf_a], wanted[conf_b]) if conf_b >= 0 else 0
@@ -124,7 +131,11 @@ def adaptive_cells(path):
                     state = "failed"
                 elif differences:
                     mean = sum(differences) / len(differences)
-                    lows, highs = confidence_sequence(differences, -width, width, cell_level)
+                    if rule["method"] == "bernstein":
+                        lows, highs = confidence_sequence(differences, -width, width, cell_level)
+                    else:
+                        lows, highs = asymptotic_confidence_sequence(differences, cell_level,
+                                                                     max_runs)
                     lower, upper = lows[-1], highs[-1]
                     if rule["target"] == "sign" and lower > 0:
                         state = "+"
@@ -140,6 +151,8 @@ def adaptive_cells(path):
                               **dict(zip(others, key)), "metric": metric, "state": state,
                               "runs": len(differences), "difference": mean, "cs_low": lower,
                               "cs_high": upper, "_confs": (conf_a, conf_b)})
+                if complete and state in ("+", "-", "narrow"):
+                    decided[len(cells) - 1] = cells[-1]
         done = False
         if complete:
             following = list(wanted)

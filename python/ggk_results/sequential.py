@@ -53,3 +53,45 @@ def confidence_sequence(differences, low, high, level=0.95):
         mu_before = mu
         s2_before = (0.25 + sum_squares) / (t + 1.0)
     return lower_out, upper_out
+
+
+def asymptotic_confidence_sequence(differences, level=0.95, horizon=20):
+    """(lower, upper): the asymptotic confidence sequence (AsympCS) of
+    Waudby-Smith, Arnold, Wu, Chang & Ramdas (2024, Ann. Statist. 52(6)), the
+    twin of kernels::asymptotic_confidence_sequence: the two-sided normal-mixture
+    boundary tightest at t = horizon, with the sample standard deviation and
+    Student's t small-sample factor q_t / z. No range needed; its coverage at
+    every t at once holds as the runs grow (not at every small t: see
+    tests/python/test_confidence_sequence.py). Bounds after the first value are
+    infinite; not intersected over t."""
+    from scipy import stats
+
+    x = np.asarray(differences, dtype=float)
+    if x.ndim != 1:
+        raise ValueError("differences must be a 1-D sequence")
+    if not 0.0 < level < 1.0:
+        raise ValueError("level must be in (0, 1)")
+    if horizon < 1:
+        raise ValueError("the horizon must be at least 1")
+    if not np.all(np.isfinite(x)):
+        raise ValueError("a difference is not finite")
+    alpha = 1.0 - level
+    rho2 = (-2.0 * math.log(alpha) + math.log(-2.0 * math.log(alpha) + 1.0)) / horizon
+    z = stats.norm.ppf(1.0 - alpha / 2.0)
+    lower_out, upper_out = np.empty(len(x)), np.empty(len(x))
+    quantiles = stats.t.ppf(1.0 - alpha / 2.0, np.arange(1, max(len(x), 2), dtype=float))
+    mean = squares = 0.0
+    for i, value in enumerate(x):
+        t = i + 1.0
+        delta = value - mean
+        mean += delta / t
+        squares += delta * (value - mean)
+        if i == 0:
+            lower_out[i], upper_out[i] = -math.inf, math.inf
+            continue
+        sd = math.sqrt(squares / (t - 1.0))
+        q = quantiles[i - 1]  # t - 1 degrees of freedom
+        half = sd * math.sqrt(2.0 * (t * rho2 + 1.0) / (t * t * rho2)
+                              * math.log(math.sqrt(t * rho2 + 1.0) / alpha)) * q / z
+        lower_out[i], upper_out[i] = mean - half, mean + half
+    return lower_out, upper_out

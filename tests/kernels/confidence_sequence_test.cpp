@@ -72,3 +72,32 @@ TEST(ConfidenceSequence, CoversTheMeanAtEveryLookAtOnce) {
 
 }  // namespace
 }  // namespace ggk::kernels
+
+namespace ggk::kernels {
+namespace {
+
+// The asymptotic sequence at t = 4 of 1, 2, 3, 4 (level 0.95, horizon 10), by
+// hand: mean 2.5, s = sqrt(5/3), rho^2 = (5.99146 + log 6.99146) / 10 =
+// 0.793615, half = s sqrt(2 (4 rho^2 + 1) / (16 rho^2) log(sqrt(4 rho^2 + 1) /
+// 0.05)) t_3 / z = 3.27407 (ggk_results.asymptotic_confidence_sequence:
+// -0.7740679367299137, 5.774067936729914).
+TEST(AsymptoticConfidenceSequence, MatchesTheFormulaByHand) {
+  const std::vector<double> x = {1.0, 2.0, 3.0, 4.0};
+  const ConfidenceSequence cs = asymptotic_confidence_sequence(x, 0.95, 10);
+  ASSERT_EQ(cs.lower.size(), 4u);
+  EXPECT_TRUE(std::isinf(cs.lower[0]) && cs.lower[0] < 0.0);
+  EXPECT_TRUE(std::isinf(cs.upper[0]) && cs.upper[0] > 0.0);
+  EXPECT_NEAR(cs.lower[3], -0.7740679367299137, 1e-9);
+  EXPECT_NEAR(cs.upper[3], 5.774067936729914, 1e-9);
+  // Equal values: a point; a wider level: a wider interval.
+  const std::vector<double> same = {0.5, 0.5, 0.5};
+  EXPECT_DOUBLE_EQ(asymptotic_confidence_sequence(same, 0.95, 10).lower[2], 0.5);
+  EXPECT_LT(asymptotic_confidence_sequence(x, 0.999, 10).lower[3], cs.lower[3]);
+  EXPECT_THROW(asymptotic_confidence_sequence(x, 1.0, 10), std::invalid_argument);
+  EXPECT_THROW(asymptotic_confidence_sequence(x, 0.95, 0), std::invalid_argument);
+  const std::vector<double> bad = {1.0, std::nan("")};
+  EXPECT_THROW(asymptotic_confidence_sequence(bad, 0.95, 10), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ggk::kernels

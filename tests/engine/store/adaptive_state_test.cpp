@@ -137,5 +137,43 @@ TEST(AdaptiveState, RefusesWhatItCannotJudge) {
   }
 }
 
+TEST(AdaptiveState, ADecidedCellKeepsItsVerdictWhileItsConfigurationGoesOn) {
+  // Two metrics of one configuration: success_rate decided at once, `even`
+  // (alternating +1 / -1 differences) never: the configuration runs to the cap,
+  // the decided cell keeps the runs and bounds of its look.
+  ResultsContents contents = contents_of(1, 30, [](int, int) { return 1.0; },
+                                         [](int, int) { return 0.0; });
+  contents.metric_names = {"success_rate", "even", "fit_seconds"};
+  for (FitRow& row : contents.fits) {
+    const bool ggk = row.key[0] == "ggk";
+    const double even = (row.run % 2 == 0) == ggk ? 1.0 : 0.0;
+    row.values = {row.values[0], even, 0.01};
+  }
+  AdaptiveRule rule = rule_of(5);
+  rule.metrics = {"success_rate", "even"};
+  const AdaptiveState state = adaptive_state(contents, rule, 1, 30, fraction);
+  ASSERT_TRUE(state.done);
+  ASSERT_EQ(state.cells.size(), 2u);
+  EXPECT_EQ(state.runs_wanted[0], 30);
+  EXPECT_EQ(state.cells[1].state, CellState::kCapped);
+  EXPECT_EQ(state.cells[0].state, CellState::kPositive);
+  EXPECT_LT(state.cells[0].runs, 30);  // its look's runs, not the configuration's
+}
+
+TEST(AdaptiveState, TheAsymptoticMethodNeedsNoRange) {
+  // A mean (no range known) differing by 10 with spread: decided, no range asked.
+  const auto a = [](int, int r) { return 100.0 + 10.0 + (r % 3 == 0 ? 8.0 : -4.0); };
+  const auto b = [](int, int r) { return 100.0 + (r % 2 == 0 ? 5.0 : -5.0); };
+  AdaptiveRule rule = rule_of(5);
+  rule.method = AdaptiveMethod::kAsymptotic;
+  const auto mean = [](std::string_view) { return MetricKind::kMean; };
+  const AdaptiveState state = adaptive_state(contents_of(1, 40, a, b), rule, 1, 40, mean);
+  ASSERT_TRUE(state.done);
+  EXPECT_EQ(state.cells[0].state, CellState::kPositive);
+  EXPECT_LE(state.cells[0].runs, 10);
+  // The bounded method refuses it: no range.
+  EXPECT_THROW(adaptive_state(contents_of(1, 40, a, b), rule_of(5), 1, 40, mean), UsageError);
+}
+
 }  // namespace
 }  // namespace ggk::engine
