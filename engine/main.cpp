@@ -83,6 +83,7 @@ int validate_command(const std::string& job_path, const std::string& output,
     if (estimate.per_run > memory.per_run) memory = estimate;
   }
   if (quiet) return 0;
+  if (job.adaptive) std::printf("%s\n", engine::adaptive_rule_words(*job.adaptive, job.runs).c_str());
   if (!study.has_axes()) {
     std::printf("%s: ok (task %s, %d runs x %zu sweep points); about %s of memory per run\n",
                 job_path.c_str(), job.task.c_str(), job.runs, fits,

@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -57,6 +58,29 @@ void check_adaptive_metrics(const Study& study) {
                        "it)");
     }
   }
+}
+
+std::string adaptive_rule_words(const AdaptiveRule& rule, std::int32_t runs) {
+  std::string compared, metrics;
+  for (const AdaptiveComparison& c : rule.comparisons) {
+    compared += (compared.empty() ? "" : ", ") + c.text();
+  }
+  for (const std::string& m : rule.metrics) metrics += (metrics.empty() ? "" : ", ") + m;
+  char level[32];
+  std::snprintf(level, sizeof level, "%g", rule.level);
+  return "adaptive: runs " + std::to_string(rule.batch) + " at a time up to " +
+         std::to_string(runs) + " per run configuration while a cell of " + compared + " on " +
+         metrics + " is undecided (" +
+         (rule.target == AdaptiveTarget::kSign ? std::string("its sign")
+                                               : "narrower than " + std::to_string(rule.width)) +
+         "; " + (rule.method == AdaptiveMethod::kBernstein ? "bernstein" : "asymptotic") +
+         " confidence sequences, " +
+         (rule.correction == AdaptiveCorrection::kBonferroni ? "Bonferroni: level " +
+                                                                   std::string(level) +
+                                                                   " over all cells"
+                                                             : "level " + std::string(level) +
+                                                                   " per cell") +
+         ")";
 }
 
 std::vector<std::string> adaptive_summary_lines(const AdaptiveState& state, const Study& study) {

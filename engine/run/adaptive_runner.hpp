@@ -20,6 +20,11 @@ namespace ggk::engine {
 // Throws UsageError naming the metric ([adaptive.range]).
 void check_adaptive_metrics(const Study& study);
 
+// The rule in words, for `ggk validate`: "adaptive: runs 5 at a time up to 60 per
+// run configuration while a cell of basis=ggk,ogk on success_rate is undecided
+// (its sign; bernstein confidence sequence, level 0.95 over all cells)".
+std::string adaptive_rule_words(const AdaptiveRule& rule, std::int32_t runs);
+
 // run_study for a study whose job has an [adaptive] table.
 RunSummary run_adaptive_study(const Study& study, const RunOptions& options);
 
