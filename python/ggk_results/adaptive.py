@@ -53,12 +53,29 @@ def _same(stored, given):
         return False
 
 
-def adaptive_cells(path):
+def adaptive_cells(path, rule=None):
     """The cells of the adaptive study at `path` as a DataFrame: compare, the other
     axes, metric, state (+, -, narrow, open, capped, failed), runs, difference
     (the mean), cs_low, cs_high; its attrs hold looks, done, runs_wanted (per
-    configuration) and cell_level."""
-    rule = adaptive_rule(path)
+    configuration) and cell_level.
+
+    `rule` (a dict as adaptive_rule returns, keys left out taking the file's or
+    the defaults) replays another rule on the file's runs: what it would have
+    decided, and after how many runs, on any study whose runs it covers (a fixed
+    one included: run r is the same whoever asks for it)."""
+    stored = adaptive_rule(path)
+    if rule is not None:
+        with h5py.File(path, "r") as f:
+            runs = int(f.attrs["runs"])
+        defaults = {"target": "sign", "width": 0.0, "batch": 5, "level": 0.95,
+                    "correction": "bonferroni", "method": "bernstein", "range": {},
+                    "max_runs": runs}
+        rule = {**defaults, **(stored or {}), **rule}
+        for key in ("compare", "metrics"):
+            if isinstance(rule.get(key), str):
+                rule[key] = [rule[key]]
+    else:
+        rule = stored
     if rule is None:
         raise ValueError(f"{path}: no adaptive study (its job has no [adaptive] table)")
     frame = summary_frame(path)
