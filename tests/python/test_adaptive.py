@@ -50,6 +50,17 @@ class AdaptiveCells(support.Scratch):
         self.assertLess(sum(cells.attrs["runs_wanted"]), 120)
         self.assertEqual(adaptive_rule(output)["compare"], ["basis=ggk,ogk"])
 
+    def test_another_rule_replayed_on_the_files_runs(self):
+        output = self.dir / "r.h5"
+        self.run_job(output)
+        own = adaptive_cells(output)
+        same = adaptive_cells(output, rule={})
+        pd.testing.assert_frame_equal(own, same)
+        # Each cell at 95 % instead of 97.5 %: decided no later than under Bonferroni.
+        looser = adaptive_cells(output, rule={"correction": "none"})
+        self.assertTrue((looser["runs"].to_numpy() <= own["runs"].to_numpy()).all())
+        self.assertEqual(looser.attrs["cell_level"], 0.95)
+
     def test_a_capped_study_and_its_growth(self):
         output = self.dir / "g.h5"
         self.run_job(output, "--set", "runs=10")
