@@ -2,6 +2,8 @@
 
 #include <charconv>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 
 #include <toml++/toml.h>
 
@@ -204,6 +206,15 @@ std::optional<std::vector<std::string>> canonical_elements(std::string_view text
     }
   }
   return elements;
+}
+
+bool same_value_text(const std::string& stored, const std::string& given) {
+  if (stored == given) return true;
+  char* end_stored = nullptr;
+  char* end_given = nullptr;
+  const double x = std::strtod(stored.c_str(), &end_stored);
+  const double y = std::strtod(given.c_str(), &end_given);
+  return !stored.empty() && !given.empty() && *end_stored == '\0' && *end_given == '\0' && x == y;
 }
 
 }  // namespace ggk::engine

@@ -68,6 +68,10 @@ std::string canonical_integer(std::int64_t value);
 std::string canonical_number(double value);
 std::string canonical_string(std::string_view value);
 std::string canonical_boolean(bool value);
+// Whether `given` (as a job, a command line or a user writes a value) names
+// `stored` (as a job or a results table holds it, strings unquoted): the same
+// text, or the same number ("0.0" and "0", "1e-6" and "0.000001").
+bool same_value_text(const std::string& stored, const std::string& given);
 
 // The canonical texts of the elements of an array's canonical text
 // ("[15.0, 30.0]" -> {"15.0", "30.0"}); nullopt when `text` is not an array of

@@ -264,17 +264,6 @@ void reject_repeats(const Items& items, const std::string& file, const std::stri
   }
 }
 
-// Whether `given` (as a job or a command line writes it) names `stored` (a
-// canonical value, unquoted): the same text, or the same number ("0.0", "0").
-bool same_value_text(const std::string& stored, const std::string& given) {
-  if (stored == given) return true;
-  char* end_stored = nullptr;
-  char* end_given = nullptr;
-  const double x = std::strtod(stored.c_str(), &end_stored);
-  const double y = std::strtod(given.c_str(), &end_given);
-  return !stored.empty() && !given.empty() && *end_stored == '\0' && *end_given == '\0' && x == y;
-}
-
 // The values of the axis `name` of the study as text (a built-in axis's from the
 // job's [sweep], a study axis's canonical values unquoted), or nullopt when no
 // axis has that name.

@@ -10,10 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include <tbb/parallel_for.h>
-
 #include "engine/job/usage_error.hpp"
-#include "engine/run/fit_warnings.hpp"
 #include "engine/run/job_writer.hpp"
 #include "engine/run/open_results.hpp"
 #include "engine/store/results_contents.hpp"
@@ -124,9 +121,8 @@ RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
   std::map<RunKey, WorkUnit> outstanding;
   for (WorkUnit& unit : opened.pending) outstanding[{unit.configuration, unit.run}] = std::move(unit);
 
-  std::atomic<std::int64_t> failed_fits{0}, fits{0};
+  RunTally tally;
   std::int32_t computed = 0;
-  FitWarnings warnings;
   JobWriter writer(study, options, std::move(opened), 0, StopSignals::Mode::kStopInHandler);
   AdaptiveState state;
   try {
@@ -147,16 +143,7 @@ RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
                                " lacks runs but none is outstanding");
       }
       writer.add_runs_to_write(static_cast<std::int32_t>(look.size()));
-      tbb::parallel_for(
-          std::size_t{0}, look.size(),
-          [&](std::size_t i) {
-            auto record = std::make_shared<const RunRecord>(compute_unit(study, look[i]));
-            failed_fits.fetch_add(failed_fits_of(*record));
-            fits.fetch_add(static_cast<std::int64_t>(record->fits.size()));
-            warnings.add(*record);
-            writer.commit(std::move(record));
-          },
-          tbb::simple_partitioner());
+      compute_units(study, look, writer, tally);
       writer.wait();
       for (const WorkUnit& unit : look) outstanding.erase({unit.configuration, unit.run});
       computed += static_cast<std::int32_t>(look.size());
@@ -165,21 +152,15 @@ RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
   } catch (const UsageError&) {
     throw;
   } catch (const std::runtime_error& e) {
-    try {
-      writer.wait();
-    } catch (const std::runtime_error&) {  // the failure being reported, or its cause
-    }
-    const bool published = writer.target().temporary().empty();
-    throw RunFailure(std::string(e.what()) + "\nggk: " +
-                     (published ? writer.go_on().published : writer.go_on().unpublished));
+    throw stopped_job(writer, e);
   }
   std::int64_t used = 0;
   for (const std::int32_t wanted : state.runs_wanted) used += wanted;
   summary.runs_computed = computed;
   summary.runs_skipped = static_cast<std::int32_t>(used - computed);
-  summary.fits = fits.load();
-  summary.failed_fits = failed_fits.load();
-  summary.warnings = warnings.lines();
+  summary.fits = tally.fits.load();
+  summary.failed_fits = tally.failed_fits.load();
+  summary.warnings = tally.warnings.lines();
   summary.adaptive = adaptive_summary_lines(state, study);
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

@@ -98,6 +98,33 @@ ComputeThreads::ComputeThreads(std::int32_t threads) {
   }
 }
 
+void compute_units(const Study& study, std::span<const WorkUnit> units, JobWriter& writer,
+                   RunTally& tally) {
+  tbb::parallel_for(
+      std::size_t{0}, units.size(),
+      [&](std::size_t i) {
+        auto record = std::make_shared<const RunRecord>(compute_unit(study, units[i]));
+        tally.failed_fits.fetch_add(failed_fits_of(*record));
+        tally.fits.fetch_add(static_cast<std::int64_t>(record->fits.size()));
+        tally.warnings.add(*record);
+        writer.commit(std::move(record));
+      },
+      tbb::simple_partitioner());
+}
+
+RunFailure stopped_job(JobWriter& writer, const std::runtime_error& error) {
+  // The writer abandoned the file as its last commit left it, or writes the runs
+  // queued before a run failed; or the output was never touched. Say which, and
+  // how to go on.
+  try {
+    writer.wait();
+  } catch (const std::runtime_error&) {  // the failure being reported, or its cause
+  }
+  const bool published = writer.target().temporary().empty();
+  return RunFailure(std::string(error.what()) + "\nggk: " +
+                    (published ? writer.go_on().published : writer.go_on().unpublished));
+}
+
 void print_notes(const std::vector<std::string>& notes) {
   for (const std::string& note : notes) std::fprintf(stderr, "ggk: %s\n", note.c_str());
 }
@@ -134,41 +161,22 @@ RunSummary run_study(const Study& study, const RunOptions& options) {
   summary.runs_skipped = opened.skipped;
   const std::vector<WorkUnit> pending = std::move(opened.pending);
 
-  std::atomic<std::int64_t> failed_fits{0}, fits{0};
-  FitWarnings warnings;
+  RunTally tally;
   JobWriter writer(study, options, std::move(opened), static_cast<std::int32_t>(pending.size()),
                    StopSignals::Mode::kStopInHandler);
   try {
-    tbb::parallel_for(
-        std::size_t{0}, pending.size(),
-        [&](std::size_t i) {
-          auto record = std::make_shared<const RunRecord>(compute_unit(study, pending[i]));
-          failed_fits.fetch_add(failed_fits_of(*record));
-          fits.fetch_add(static_cast<std::int64_t>(record->fits.size()));
-          warnings.add(*record);
-          writer.commit(std::move(record));
-        },
-        tbb::simple_partitioner());
+    compute_units(study, pending, writer, tally);
     writer.finish();
   } catch (const UsageError&) {
     throw;
   } catch (const std::runtime_error& e) {
-    // The writer abandoned the file as its last commit left it, or writes the
-    // runs queued before a run failed; or the output was never touched. Say
-    // which, and how to go on.
-    try {
-      writer.wait();
-    } catch (const std::runtime_error&) {  // the failure being reported, or its cause
-    }
-    const bool published = writer.target().temporary().empty();
-    throw RunFailure(std::string(e.what()) + "\nggk: " +
-                     (published ? writer.go_on().published : writer.go_on().unpublished));
+    throw stopped_job(writer, e);
   }
 
   summary.runs_computed = static_cast<std::int32_t>(pending.size());
-  summary.fits = fits.load();
-  summary.failed_fits = failed_fits.load();
-  summary.warnings = warnings.lines();
+  summary.fits = tally.fits.load();
+  summary.failed_fits = tally.failed_fits.load();
+  summary.warnings = tally.warnings.lines();
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return summary;

@@ -4,11 +4,13 @@
 // store writer, which writes it whole and marks it complete. --resume skips
 // complete runs; the summary is rebuilt at the end.
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -17,9 +19,12 @@
 #include "engine/job/job_spec.hpp"
 #include "engine/job/study.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/run/fit_warnings.hpp"
 #include "engine/tasks/run_record.hpp"
 
 namespace ggk::engine {
+
+class JobWriter;
 
 // Runs first..last-1 of a job (`--runs A:B`): a shard for a job array; the runs
 // keep the seeds and results they have in the whole job (ggk merge joins shards).
@@ -86,6 +91,23 @@ void check_study_memory(const Study& study, const RunOptions& options);
 
 // The fits of `record` that failed (status invalid or solver_failed).
 std::int64_t failed_fits_of(const RunRecord& record);
+
+// What a job's computed runs add up to, for its summary.
+struct RunTally {
+  std::atomic<std::int64_t> fits{0};
+  std::atomic<std::int64_t> failed_fits{0};
+  FitWarnings warnings;
+};
+
+// Computes `units` as oneTBB tasks (one each, simple partitioner) and commits
+// each run through `writer` as it ends, counting into `tally`.
+void compute_units(const Study& study, std::span<const WorkUnit> units, JobWriter& writer,
+                   RunTally& tally);
+
+// The RunFailure of a job that stopped on `error` (a run that could not be
+// computed or written): waits for the writer, then says what the file holds and
+// the command that goes on.
+RunFailure stopped_job(JobWriter& writer, const std::runtime_error& error);
 
 // Prints open_results' notes (a damaged run computed again, an empty file
 // started afresh) to stderr, one "ggk: " line each.

@@ -10,22 +10,12 @@
 #include <string>
 #include <vector>
 
+#include "engine/job/resolved_config.hpp"
 #include "engine/job/usage_error.hpp"
 #include "kernels/confidence_sequence.hpp"
 
 namespace ggk::engine {
 namespace {
-
-// Whether `given` (as the job writes it) names `stored` (as the file's table
-// writes it): the same text or the same number ("0.0" and "0").
-bool same_value(const std::string& stored, const std::string& given) {
-  if (stored == given) return true;
-  char* end_stored = nullptr;
-  char* end_given = nullptr;
-  const double x = std::strtod(stored.c_str(), &end_stored);
-  const double y = std::strtod(given.c_str(), &end_given);
-  return !stored.empty() && !given.empty() && *end_stored == '\0' && *end_given == '\0' && x == y;
-}
 
 // One point of the other axes of a comparison: its two sides' fits by run.
 struct Pairing {
@@ -51,8 +41,8 @@ std::vector<Pairing> pairings(const ResultsContents& contents, const AdaptiveCom
   std::vector<Pairing> result;
   std::map<std::vector<std::string>, std::size_t> index_of;
   for (const FitRow& fit : contents.fits) {
-    const bool is_a = same_value(fit.key[axis], compare.a);
-    if (!is_a && !same_value(fit.key[axis], compare.b)) continue;
+    const bool is_a = same_value_text(fit.key[axis], compare.a);
+    if (!is_a && !same_value_text(fit.key[axis], compare.b)) continue;
     std::vector<std::string> key = fit.key;
     key.erase(key.begin() + static_cast<std::ptrdiff_t>(axis));
     const auto [at, added] = index_of.emplace(key, result.size());

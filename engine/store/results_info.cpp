@@ -17,6 +17,7 @@
 #include <boost/math/distributions/students_t.hpp>
 
 #include "engine/hdf5/hdf5_file.hpp"
+#include "engine/job/resolved_config.hpp"
 #include "engine/job/usage_error.hpp"
 #include "engine/job/adaptive_rule.hpp"
 #include "engine/job/job_error.hpp"
@@ -299,16 +300,6 @@ std::vector<PairedPoint> pair_points(const ResultsContents& contents,
                      "' (its axes: " + (axes.empty() ? "none yet" : axes) + ")");
   }
   const auto axis = static_cast<std::size_t>(axis_at - contents.axis_names.begin());
-  // A value as the file writes it ("0.1", "1e-06") or any spelling of the same
-  // number ("0.0" for "0", "0.000001").
-  const auto same_value = [](const std::string& stored, const std::string& given) {
-    if (stored == given) return true;
-    char* end_stored = nullptr;
-    char* end_given = nullptr;
-    const double x = std::strtod(stored.c_str(), &end_stored);
-    const double y = std::strtod(given.c_str(), &end_given);
-    return !stored.empty() && !given.empty() && *end_stored == '\0' && *end_given == '\0' && x == y;
-  };
   PairedComparison sides = paired;
   std::vector<std::string> values;
   for (const FitRow& fit : contents.fits) {
@@ -318,7 +309,7 @@ std::vector<PairedPoint> pair_points(const ResultsContents& contents,
   }
   for (std::string* side : {&sides.a, &sides.b}) {
     const auto stored = std::find_if(values.begin(), values.end(),
-                                     [&](const std::string& v) { return same_value(v, *side); });
+                                     [&](const std::string& v) { return same_value_text(v, *side); });
     if (stored != values.end()) {
       *side = *stored;
     } else {
