@@ -24,13 +24,13 @@
 #include "engine/job/study.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/run/adaptive_runner.hpp"
 #include "engine/run/address_space.hpp"
 #include "engine/run/cpu_affinity.hpp"
 #include "engine/run/isolated_merge.hpp"
 #include "engine/run/isolated_reading.hpp"
 #include "engine/run/job_runner.hpp"
 #include "engine/run/memory_check.hpp"
-#include "engine/run/adaptive_runner.hpp"
 #include "engine/run/open_results.hpp"
 #include "engine/run/shards.hpp"
 #include "engine/store/output_lock.hpp"
@@ -83,7 +83,8 @@ int validate_command(const std::string& job_path, const std::string& output,
     if (estimate.per_run > memory.per_run) memory = estimate;
   }
   if (quiet) return 0;
-  if (job.adaptive) std::printf("%s\n", engine::adaptive_rule_words(*job.adaptive, job.runs).c_str());
+  if (job.adaptive)
+    std::printf("%s\n", engine::adaptive_rule_words(*job.adaptive, job.runs).c_str());
   if (!study.has_axes()) {
     std::printf("%s: ok (task %s, %d runs x %zu sweep points); about %s of memory per run\n",
                 job_path.c_str(), job.task.c_str(), job.runs, fits,

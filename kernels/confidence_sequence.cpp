@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include <boost/math/distributions/normal.hpp>
@@ -69,8 +69,8 @@ ConfidenceSequence asymptotic_confidence_sequence(std::span<const double> values
     throw std::invalid_argument("asymptotic_confidence_sequence: the horizon must be at least 1");
   }
   const double alpha = 1.0 - level;
-  const double rho2 =
-      (-2.0 * std::log(alpha) + std::log(-2.0 * std::log(alpha) + 1.0)) / static_cast<double>(horizon);
+  const double rho2 = (-2.0 * std::log(alpha) + std::log(-2.0 * std::log(alpha) + 1.0)) /
+                      static_cast<double>(horizon);
   const double z = boost::math::quantile(boost::math::normal(), 1.0 - alpha / 2.0);
   const double infinity = std::numeric_limits<double>::infinity();
   ConfidenceSequence cs;

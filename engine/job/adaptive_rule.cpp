@@ -30,8 +30,8 @@ void for_each_text(const TomlTableReader& table, std::string_view key, Read read
   }
   const auto* array = node->as_array();
   if (array == nullptr || array->empty()) {
-    table.fail(key, "expected a string or a non-empty array of strings, got " +
-                        describe_value(*node));
+    table.fail(key,
+               "expected a string or a non-empty array of strings, got " + describe_value(*node));
   }
   for (const toml::node& element : *array) {
     const auto* text = element.as_string();
@@ -76,7 +76,8 @@ std::optional<AdaptiveRule> parse_adaptive_table(const TomlTableReader& job, std
     if (!comparison) {
       table->fail_at(node, "compare",
                      "expected AXIS=A,B (the axis and two of its values, e.g. \"basis=ggk,ogk\"), "
-                     "got \"" + shortened(text) + "\"");
+                     "got \"" +
+                         shortened(text) + "\"");
     }
     for (const AdaptiveComparison& earlier : rule.comparisons) {
       if (earlier.text() == comparison->text()) {
@@ -109,27 +110,28 @@ std::optional<AdaptiveRule> parse_adaptive_table(const TomlTableReader& job, std
                              " (the most runs a configuration gets)");
   }
   rule.level = table->number("level", NumberRange::open(0.0, 1.0), 0.95);
-  rule.correction = table->choice("correction", kCorrectionNames, std::string("bonferroni")) ==
-                            "bonferroni"
-                        ? AdaptiveCorrection::kBonferroni
-                        : AdaptiveCorrection::kNone;
+  rule.correction =
+      table->choice("correction", kCorrectionNames, std::string("bonferroni")) == "bonferroni"
+          ? AdaptiveCorrection::kBonferroni
+          : AdaptiveCorrection::kNone;
   rule.method = table->choice("method", kMethodNames, std::string("bernstein")) == "bernstein"
                     ? AdaptiveMethod::kBernstein
                     : AdaptiveMethod::kAsymptotic;
   if (const toml::node* node = table->find("range")) {
     const auto* ranges = node->as_table();
     if (ranges == nullptr) {
-      table->fail("range", "expected a table of METRIC = [LOW, HIGH], got " + describe_value(*node));
+      table->fail("range",
+                  "expected a table of METRIC = [LOW, HIGH], got " + describe_value(*node));
     }
     for (const auto& [key, value] : *ranges) {
       const std::string metric(key.str());
       const std::string path = "range." + metric;
       const auto* pair = value.as_array();
-      const bool numbers = pair != nullptr && pair->size() == 2 &&
-                           (*pair)[0].is_number() && (*pair)[1].is_number();
+      const bool numbers =
+          pair != nullptr && pair->size() == 2 && (*pair)[0].is_number() && (*pair)[1].is_number();
       if (!numbers) {
-        table->fail_at(value, path, "expected [LOW, HIGH] (two numbers), got " +
-                                        describe_value(value));
+        table->fail_at(value, path,
+                       "expected [LOW, HIGH] (two numbers), got " + describe_value(value));
       }
       const double low = (*pair)[0].value<double>().value();
       const double high = (*pair)[1].value<double>().value();

@@ -72,33 +72,34 @@ std::string adaptive_rule_words(const AdaptiveRule& rule, std::int32_t runs) {
                                                : "narrower than " + std::to_string(rule.width)) +
          "; " + (rule.method == AdaptiveMethod::kBernstein ? "bernstein" : "asymptotic") +
          " confidence sequences, " +
-         (rule.correction == AdaptiveCorrection::kBonferroni ? "Bonferroni: level " +
-                                                                   std::string(level) +
-                                                                   " over all cells"
-                                                             : "level " + std::string(level) +
-                                                                   " per cell") +
+         (rule.correction == AdaptiveCorrection::kBonferroni
+              ? "Bonferroni: level " + std::string(level) + " over all cells"
+              : "level " + std::string(level) + " per cell") +
          ")";
 }
 
 std::vector<std::string> adaptive_summary_lines(const AdaptiveState& state, const Study& study) {
   std::int64_t decided = 0, capped = 0, failed = 0;
   for (const AdaptiveCell& cell : state.cells) {
-    if (cell.state == CellState::kCapped) ++capped;
-    else if (cell.state == CellState::kFailed) ++failed;
-    else if (cell.state != CellState::kOpen) ++decided;
+    if (cell.state == CellState::kCapped)
+      ++capped;
+    else if (cell.state == CellState::kFailed)
+      ++failed;
+    else if (cell.state != CellState::kOpen)
+      ++decided;
   }
   std::int64_t runs = 0;
   for (const std::int32_t wanted : state.runs_wanted) runs += wanted;
-  const std::int64_t fixed =
-      static_cast<std::int64_t>(study.job().runs) * static_cast<std::int64_t>(study.configurations.size());
+  const std::int64_t fixed = static_cast<std::int64_t>(study.job().runs) *
+                             static_cast<std::int64_t>(study.configurations.size());
   std::vector<std::string> lines;
   lines.push_back("adaptive: " + std::string(state.done ? "done" : "not done") + " after " +
                   std::to_string(state.looks) + " looks: " + std::to_string(decided) + " of " +
                   std::to_string(state.cells.size()) + " cells decided, " +
                   std::to_string(state.open_cells()) + " open, " + std::to_string(capped) +
                   " capped at " + std::to_string(study.job().runs) + " runs" +
-                  (failed > 0 ? ", " + std::to_string(failed) + " with failed fits" : "") +
-                  "; " + std::to_string(runs) + " runs, against " + std::to_string(fixed) +
+                  (failed > 0 ? ", " + std::to_string(failed) + " with failed fits" : "") + "; " +
+                  std::to_string(runs) + " runs, against " + std::to_string(fixed) +
                   " for every configuration at its most (ggk info shows the cells)");
   return lines;
 }
@@ -119,7 +120,8 @@ RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
   RunSummary summary;
   summary.output = opened.target.output();
   std::map<RunKey, WorkUnit> outstanding;
-  for (WorkUnit& unit : opened.pending) outstanding[{unit.configuration, unit.run}] = std::move(unit);
+  for (WorkUnit& unit : opened.pending)
+    outstanding[{unit.configuration, unit.run}] = std::move(unit);
 
   RunTally tally;
   std::int32_t computed = 0;
@@ -127,8 +129,7 @@ RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
   AdaptiveState state;
   try {
     for (;;) {
-      state = writer.read(
-          [&](Hdf5File& file) { return state_of_file(file, study, outstanding); });
+      state = writer.read([&](Hdf5File& file) { return state_of_file(file, study, outstanding); });
       std::vector<WorkUnit> look;
       for (std::size_t c = 0; c < study.configurations.size(); ++c) {
         for (std::int32_t run = 0; run < state.runs_wanted[c]; ++run) {

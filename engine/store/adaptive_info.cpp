@@ -30,8 +30,8 @@ std::string adaptive_status_line(const AdaptiveState& state, const AdaptiveRule&
   const std::int64_t decided =
       count[CellState::kPositive] + count[CellState::kNegative] + count[CellState::kNarrow];
   std::string line = "look " + std::to_string(state.looks) + (state.done ? ", done" : ", running") +
-                     ": " + std::to_string(decided) + " of " +
-                     std::to_string(state.cells.size()) + " cells decided";
+                     ": " + std::to_string(decided) + " of " + std::to_string(state.cells.size()) +
+                     " cells decided";
   if (rule.target == AdaptiveTarget::kSign) {
     line += " (+ " + std::to_string(count[CellState::kPositive]) + ", - " +
             std::to_string(count[CellState::kNegative]) + ")";
@@ -62,7 +62,7 @@ std::string adaptive_status_line(const AdaptiveState& state, const AdaptiveRule&
 }
 
 std::vector<std::vector<std::string>> adaptive_cell_rows(const AdaptiveState& state,
-                                                        const AdaptiveRule& rule, bool exact) {
+                                                         const AdaptiveRule& rule, bool exact) {
   std::vector<std::vector<std::string>> rows;
   std::vector<std::string> header = {"compare"};
   if (!state.key_names.empty()) {

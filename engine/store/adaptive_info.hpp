@@ -25,6 +25,6 @@ std::string adaptive_status_line(const AdaptiveState& state, const AdaptiveRule&
 // state, runs, difference, cs_low, cs_high. `exact`: numbers in their shortest
 // exact form (CSV), else to 4 significant digits.
 std::vector<std::vector<std::string>> adaptive_cell_rows(const AdaptiveState& state,
-                                                        const AdaptiveRule& rule, bool exact);
+                                                         const AdaptiveRule& rule, bool exact);
 
 }  // namespace ggk::engine

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
-#include <optional>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -139,7 +139,9 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
     if (!range) {
       throw UsageError("[adaptive] metrics: '" + metric +
                        "' is no rate or fraction, so its range is unknown: give it as "
-                       "[adaptive.range] " + metric + " = [LOW, HIGH] (or method = "
+                       "[adaptive.range] " +
+                       metric +
+                       " = [LOW, HIGH] (or method = "
                        "\"asymptotic\", which needs none)");
     }
     compared.push_back({static_cast<std::size_t>(at - contents.metric_names.begin()), *range});
@@ -250,8 +252,7 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
             cell.state = CellState::kCapped;
           }
           const bool stops = cell.state == CellState::kPositive ||
-                             cell.state == CellState::kNegative ||
-                             cell.state == CellState::kNarrow;
+                             cell.state == CellState::kNegative || cell.state == CellState::kNarrow;
           if (complete && stops) decided[state.cells.size()] = cell;
           state.cells.push_back(std::move(cell));
         }
@@ -269,10 +270,11 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
     std::vector<std::int32_t> next = state.runs_wanted;
     for (const AdaptiveCell& cell : state.cells) {
       if (cell.state != CellState::kOpen) continue;
-      const auto asked = static_cast<std::int32_t>(
-          std::min<std::int64_t>(cell.runs + rule.batch, max_runs));
+      const auto asked =
+          static_cast<std::int32_t>(std::min<std::int64_t>(cell.runs + rule.batch, max_runs));
       for (const std::int32_t c : {cell.configuration_a, cell.configuration_b}) {
-        if (c >= 0) next[static_cast<std::size_t>(c)] = std::max(next[static_cast<std::size_t>(c)], asked);
+        if (c >= 0)
+          next[static_cast<std::size_t>(c)] = std::max(next[static_cast<std::size_t>(c)], asked);
       }
     }
     if (next == state.runs_wanted) {

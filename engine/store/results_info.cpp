@@ -17,10 +17,10 @@
 #include <boost/math/distributions/students_t.hpp>
 
 #include "engine/hdf5/hdf5_file.hpp"
-#include "engine/job/resolved_config.hpp"
-#include "engine/job/usage_error.hpp"
 #include "engine/job/adaptive_rule.hpp"
 #include "engine/job/job_error.hpp"
+#include "engine/job/resolved_config.hpp"
+#include "engine/job/usage_error.hpp"
 #include "engine/store/adaptive_info.hpp"
 #include "engine/store/adaptive_state.hpp"
 #include "engine/store/one_line.hpp"
@@ -308,8 +308,9 @@ std::vector<PairedPoint> pair_points(const ResultsContents& contents,
     }
   }
   for (std::string* side : {&sides.a, &sides.b}) {
-    const auto stored = std::find_if(values.begin(), values.end(),
-                                     [&](const std::string& v) { return same_value_text(v, *side); });
+    const auto stored = std::find_if(values.begin(), values.end(), [&](const std::string& v) {
+      return same_value_text(v, *side);
+    });
     if (stored != values.end()) {
       *side = *stored;
     } else {
@@ -471,7 +472,8 @@ void print_info(const std::filesystem::path& path, std::ostream& out, const Info
     const auto rows = adaptive_cell_rows(*state, *rule, options.format == InfoFormat::kCsv);
     if (options.format == InfoFormat::kCsv) {
       for (const auto& row : rows) {
-        for (std::size_t i = 0; i < row.size(); ++i) out << (i == 0 ? "" : ",") << csv_field(row[i]);
+        for (std::size_t i = 0; i < row.size(); ++i)
+          out << (i == 0 ? "" : ",") << csv_field(row[i]);
         out << "\n";
       }
     } else {

@@ -1,6 +1,6 @@
-// ggk.confidence_sequence and ggk.asymptotic_confidence_sequence: the anytime-valid confidence sequence of an adaptive
-// study's paired differences (kernels/confidence_sequence.hpp), the C++ twin of
-// ggk_results.confidence_sequence.
+// ggk.confidence_sequence and ggk.asymptotic_confidence_sequence: the anytime-valid confidence
+// sequence of an adaptive study's paired differences (kernels/confidence_sequence.hpp), the C++
+// twin of ggk_results.confidence_sequence.
 #include "kernels/confidence_sequence.hpp"
 #include "python/module/arrays.hpp"
 #include "python/module/bindings.hpp"

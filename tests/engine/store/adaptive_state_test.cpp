@@ -48,15 +48,17 @@ AdaptiveRule rule_of(std::int32_t batch) {
   return rule;
 }
 
-MetricKind fraction(std::string_view) { return MetricKind::kFraction; }
+MetricKind fraction(std::string_view) {
+  return MetricKind::kFraction;
+}
 
 TEST(AdaptiveState, LookOneAsksForABatchOfEveryConfiguration) {
   const AdaptiveState empty = adaptive_state({}, rule_of(5), 2, 40, fraction);
   EXPECT_EQ(empty.runs_wanted, (std::vector<std::int32_t>{5, 5}));
   EXPECT_FALSE(empty.done);
   // Three runs of five: the look goes on, nothing is judged beyond them.
-  const ResultsContents three = contents_of(2, 3, [](int, int) { return 1.0; },
-                                            [](int, int) { return 0.0; });
+  const ResultsContents three = contents_of(
+      2, 3, [](int, int) { return 1.0; }, [](int, int) { return 0.0; });
   const AdaptiveState partial = adaptive_state(three, rule_of(5), 2, 40, fraction);
   EXPECT_EQ(partial.runs_wanted, (std::vector<std::int32_t>{5, 5}));
   EXPECT_EQ(partial.looks, 1);
@@ -104,7 +106,8 @@ TEST(AdaptiveState, ANegativeEffectAndAWidthTarget) {
   AdaptiveRule width = rule_of(5);
   width.target = AdaptiveTarget::kWidth;
   width.width = 1.0;
-  const AdaptiveState narrow = adaptive_state(contents_of(1, 60, low, high), width, 1, 60, fraction);
+  const AdaptiveState narrow =
+      adaptive_state(contents_of(1, 60, low, high), width, 1, 60, fraction);
   ASSERT_TRUE(narrow.done);
   EXPECT_EQ(narrow.cells[0].state, CellState::kNarrow);
   EXPECT_LT(narrow.cells[0].upper - narrow.cells[0].lower, 1.0);
@@ -112,15 +115,15 @@ TEST(AdaptiveState, ANegativeEffectAndAWidthTarget) {
 
 TEST(AdaptiveState, AFailedFitStopsItsCell) {
   const auto a = [](int, int r) { return r == 2 ? std::nan("") : 0.5; };
-  const AdaptiveState state = adaptive_state(
-      contents_of(1, 5, a, [](int, int) { return 0.5; }), rule_of(5), 1, 40, fraction);
+  const AdaptiveState state = adaptive_state(contents_of(1, 5, a, [](int, int) { return 0.5; }),
+                                             rule_of(5), 1, 40, fraction);
   EXPECT_TRUE(state.done);
   EXPECT_EQ(state.cells[0].state, CellState::kFailed);
 }
 
 TEST(AdaptiveState, RefusesWhatItCannotJudge) {
-  const ResultsContents contents =
-      contents_of(1, 5, [](int, int) { return 0.5; }, [](int, int) { return 0.5; });
+  const ResultsContents contents = contents_of(
+      1, 5, [](int, int) { return 0.5; }, [](int, int) { return 0.5; });
   AdaptiveRule unknown = rule_of(5);
   unknown.metrics = {"succes_rate"};
   EXPECT_THROW(adaptive_state(contents, unknown, 1, 40, fraction), UsageError);
@@ -141,8 +144,8 @@ TEST(AdaptiveState, ADecidedCellKeepsItsVerdictWhileItsConfigurationGoesOn) {
   // Two metrics of one configuration: success_rate decided at once, `even`
   // (alternating +1 / -1 differences) never: the configuration runs to the cap,
   // the decided cell keeps the runs and bounds of its look.
-  ResultsContents contents = contents_of(1, 30, [](int, int) { return 1.0; },
-                                         [](int, int) { return 0.0; });
+  ResultsContents contents = contents_of(
+      1, 30, [](int, int) { return 1.0; }, [](int, int) { return 0.0; });
   contents.metric_names = {"success_rate", "even", "fit_seconds"};
   for (FitRow& row : contents.fits) {
     const bool ggk = row.key[0] == "ggk";
