@@ -19,6 +19,7 @@
 
 #include "engine/job/job_error.hpp"
 #include "engine/job/job_file.hpp"
+#include "engine/job/resolved_config.hpp"
 #include "engine/job/shell_words.hpp"
 #include "engine/job/spelling.hpp"
 #include "engine/job/study.hpp"
@@ -32,6 +33,7 @@
 #include "engine/run/job_runner.hpp"
 #include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
+#include "engine/run/resume_preview.hpp"
 #include "engine/run/shards.hpp"
 #include "engine/store/output_lock.hpp"
 #include "engine/store/results_diff.hpp"
@@ -60,15 +62,69 @@ int run_command(const std::string& job_path, const engine::RunOptions& options,
   return 0;
 }
 
+// The output validate was given exists: what `ggk run` would do with it, in a
+// child (the file is not ggk's to trust: isolated_reading.hpp). With --resume a
+// refusal is validate's too (exit 2); without, a note.
+void preview_existing_output(const engine::Study& study, const std::filesystem::path& output,
+                             const engine::RunOptions& run_options, bool quiet) {
+  if (run_options.overwrite) {
+    if (!quiet)
+      std::printf("%s exists: ggk run --overwrite would replace it (deleting its runs)\n",
+                  output.c_str());
+    return;
+  }
+  if (!run_options.resume && !quiet) {
+    std::printf(
+        "%s exists: ggk run refuses it unless --resume (continue it) or --overwrite "
+        "(replace it, deleting its runs)\n",
+        output.c_str());
+  }
+  if (const auto writer = engine::OutputLock::writer_of(output)) {
+    if (run_options.resume) {
+      throw engine::UsageError(output.string() + " is being written by " + *writer +
+                               ": ggk run --resume waits for nothing and would be refused");
+    }
+    if (!quiet) std::printf("%s is being written by %s\n", output.c_str(), writer->c_str());
+    return;
+  }
+  try {
+    engine::read_isolated({output}, [&] {
+      const engine::Hdf5File file = engine::Hdf5File::open_read_only(output);
+      const engine::ResumePreview preview = engine::preview_resume(file, study, output);
+      if (!quiet) {
+        for (const std::string& line : engine::preview_words(preview, study, run_options.threads)) {
+          std::printf("%s\n", line.c_str());
+        }
+      }
+      std::fflush(stdout);
+      return 0;
+    });
+  } catch (const engine::UsageError& e) {
+    if (run_options.resume) throw;
+    if (!quiet) std::printf("ggk run --resume would refuse it: %s\n", e.what());
+  } catch (const std::runtime_error& e) {  // does not open: run --resume salvages it
+    if (run_options.resume) {
+      if (!quiet)
+        std::printf(
+            "%s does not read whole (%s): ggk run --resume would salvage its whole "
+            "runs into a new file\n",
+            output.c_str(), e.what());
+      return;
+    }
+    if (!quiet) std::printf("it does not read whole: %s\n", e.what());
+  }
+}
+
 int validate_command(const std::string& job_path, const std::string& output,
-                     engine::JobLoadOptions load, const engine::RunOptions& run_options,
-                     bool quiet) {
+                     engine::JobLoadOptions load, const engine::RunOptions& run_options, bool quiet,
+                     bool print_job) {
   // Checks what `ggk run` with the same arguments would: the job file, the
   // overrides, the output (-o, else the job's, relative to this directory) and
   // the memory the job needs at -j (run's refusal, the same message and exit 2;
   // --ignore-memory-check skips it as it does for run). A study (study.hpp) has
   // every point checked, and its stages listed.
   if (!output.empty()) load.output_file = output;
+  if (print_job) load.check_output = false;  // printing the job writes nothing
   const engine::Study study = engine::load_study(job_path, engine::task_tables(), load);
   engine::check_adaptive_metrics(study);
   engine::check_study_memory(study, run_options);
@@ -82,13 +138,29 @@ int validate_command(const std::string& job_path, const std::string& output,
         configuration.job, 1, 1, static_cast<std::int64_t>(configuration.variants.size()));
     if (estimate.per_run > memory.per_run) memory = estimate;
   }
-  if (quiet) return 0;
+  if (print_job) {
+    std::fputs(engine::resolved_job_toml(study).c_str(), stdout);
+    return 0;
+  }
+  const std::filesystem::path written =
+      output.empty() ? job.output.file : std::filesystem::path(output);
+  std::error_code error;
+  const bool exists = std::filesystem::is_regular_file(written, error) &&
+                      std::filesystem::file_size(written, error) > 0;
+  if (!exists && run_options.resume && !quiet) {
+    std::printf("%s does not exist yet: ggk run --resume would start it\n", written.c_str());
+  }
+  if (quiet) {
+    if (exists) preview_existing_output(study, written, run_options, quiet);
+    return 0;
+  }
   if (job.adaptive)
     std::printf("%s\n", engine::adaptive_rule_words(*job.adaptive, job.runs).c_str());
   if (!study.has_axes()) {
     std::printf("%s: ok (task %s, %d runs x %zu sweep points); about %s of memory per run\n",
                 job_path.c_str(), job.task.c_str(), job.runs, fits,
                 engine::format_bytes(memory.per_run).c_str());
+    if (exists) preview_existing_output(study, written, run_options, quiet);
     return 0;
   }
   std::printf(
@@ -110,6 +182,7 @@ int validate_command(const std::string& job_path, const std::string& output,
                     ? "run-level (each value its own samples and graph)"
                     : "fit-level (more fits of the same runs)");
   }
+  if (exists) preview_existing_output(study, written, run_options, quiet);
   return 0;
 }
 
@@ -338,6 +411,13 @@ int main(int argc, char** argv) {
                      "accept a job whose estimated memory exceeds what is available");
   add_set_option(*validate, overrides);
   add_sweep_option(*validate, sweeps);
+  validate->add_flag("--resume", options.resume,
+                     "as run --resume: an existing output must be this job's (else exit 2); "
+                     "prints what the resume would compute");
+  validate->add_flag("--overwrite", options.overwrite, "as run --overwrite");
+  bool print_job = false;
+  validate->add_flag("--print", print_job,
+                     "print the resolved job as TOML (every key, defaults filled in) and exit");
   // -q on every command: nothing on standard output, no progress or summary on
   // standard error; errors and warnings (a damaged run redone) still print.
   bool quiet = false;
@@ -379,6 +459,9 @@ int main(int argc, char** argv) {
   diff->add_option("--exclude", diff_options.exclude,
                    "GLOB: leave out objects whose printed path matches (repeatable), e.g. "
                    "'*/history/*'");
+  diff->add_flag("--common", diff_options.common,
+                 "compare what both files hold: a configuration, run, fit or summary row only "
+                 "one holds (a study with more values) is a note, not a difference");
   diff->add_flag("-q,--quiet", quiet, "print nothing but errors: the exit status says it");
 
   std::string merge_output, merge_job;
@@ -468,7 +551,12 @@ int main(int argc, char** argv) {
     if (quiet_rank) return 0;       // the other commands run on rank 0 alone
     std::ostream discard(nullptr);  // -q: what would be printed, dropped
     std::ostream& out = quiet ? discard : std::cout;
-    if (*validate) return validate_command(job_path, output, load, options, quiet);
+    if (*validate) {
+      if (options.resume && options.overwrite) {
+        throw engine::UsageError("--resume and --overwrite exclude each other");
+      }
+      return validate_command(job_path, output, load, options, quiet, print_job);
+    }
     // The commands that read files ggk did not just write read them in a child
     // process: a file that crashes the HDF5 library is a damaged file
     // (run/isolated_reading.hpp).

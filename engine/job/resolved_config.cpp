@@ -79,6 +79,23 @@ std::set<std::string> ResolvedConfig::given_keys() const {
   return keys;
 }
 
+void ResolvedConfig::mark_unused(const std::string& key, std::string why) {
+  unused_[key] = std::move(why);
+}
+
+std::optional<std::string> ResolvedConfig::unused_reason(const std::string& key) const {
+  const auto found = unused_.find(key);
+  if (found == unused_.end()) return std::nullopt;
+  return found->second;
+}
+
+std::vector<std::string> ResolvedConfig::keys() const {
+  std::vector<std::string> keys;
+  keys.reserve(values_.size());
+  for (const auto& [key, entry] : values_) keys.push_back(key);
+  return keys;
+}
+
 std::string ResolvedConfig::text() const {
   std::string text;
   for (const auto& [key, entry] : values_) {
@@ -134,6 +151,17 @@ std::optional<std::string> ResolvedConfig::difference(const ResolvedConfig& othe
                                                       std::string_view this_label,
                                                       std::string_view other_label,
                                                       const std::set<std::string>& ignored) const {
+  const std::vector<std::string> found = differences(other, this_label, other_label, ignored, 1);
+  if (found.empty()) return std::nullopt;
+  return found.front();
+}
+
+std::vector<std::string> ResolvedConfig::differences(const ResolvedConfig& other,
+                                                     std::string_view this_label,
+                                                     std::string_view other_label,
+                                                     const std::set<std::string>& ignored,
+                                                     std::size_t limit) const {
+  std::vector<std::string> found;
   constexpr std::size_t kShown = 60;
   const auto shown = [](const std::string& value) {
     return value.size() > kShown ? value.substr(0, kShown) + "..." : value;
@@ -156,7 +184,10 @@ std::optional<std::string> ResolvedConfig::difference(const ResolvedConfig& othe
       continue;
     }
     if (b == other.values_.end() || (a != values_.end() && a->first < b->first)) {
-      return named(a->first) + ": only in " + std::string(this_label);
+      found.push_back(named(a->first) + ": only in " + std::string(this_label));
+      if (found.size() >= limit) return found;
+      ++a;
+      continue;
     }
     if (a == values_.end() || b->first < a->first) {
       // A key that `other` holds at its default (not given) and `this` lacks is
@@ -166,16 +197,21 @@ std::optional<std::string> ResolvedConfig::difference(const ResolvedConfig& othe
         ++b;
         continue;
       }
-      return named(b->first) + ": only in " + std::string(other_label);
+      found.push_back(named(b->first) + ": only in " + std::string(other_label));
+      if (found.size() >= limit) return found;
+      ++b;
+      continue;
     }
     if (a->second.value != b->second.value) {
-      return named(a->first) + ": " + shown(a->second.value) + " in " + std::string(this_label) +
-             ", " + shown(b->second.value) + " in " + std::string(other_label);
+      found.push_back(named(a->first) + ": " + shown(a->second.value) + " in " +
+                      std::string(this_label) + ", " + shown(b->second.value) + " in " +
+                      std::string(other_label));
+      if (found.size() >= limit) return found;
     }
     ++a;
     ++b;
   }
-  return std::nullopt;
+  return found;
 }
 
 bool ResolvedConfig::operator==(const ResolvedConfig& other) const {

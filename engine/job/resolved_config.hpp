@@ -12,6 +12,8 @@
 //
 // Thread-safety: plain data; a const object may be shared.
 
+#include <cstddef>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <set>
@@ -30,9 +32,19 @@ class ResolvedConfig {
   // Records `key` = `value` whether or not it was recorded before.
   void replace(const std::string& key, std::string value, bool given);
 
+  // Marks a recorded key as one the job does not use, and why (a default the
+  // job's other choices make inapplicable, e.g. noise_sd under a noise model
+  // without it): `ggk validate --print` shows it as a comment, since giving it
+  // would be refused. No part of text() or of the comparisons.
+  void mark_unused(const std::string& key, std::string why);
+  // Why `key` is unused, or nullopt when it is used.
+  std::optional<std::string> unused_reason(const std::string& key) const;
+
   bool contains(const std::string& key) const { return values_.count(key) > 0; }
   // The canonical value text of `key`, or nullopt.
   std::optional<std::string> value(const std::string& key) const;
+  // Every key, sorted.
+  std::vector<std::string> keys() const;
   // The keys the job file or an override set, sorted.
   std::set<std::string> given_keys() const;
   std::size_t size() const { return values_.size(); }
@@ -50,6 +62,12 @@ class ResolvedConfig {
                                         std::string_view other_label,
                                         const std::set<std::string>& ignored = {}) const;
 
+  // Every key that differs, in the same words, in key order; at most `limit`.
+  std::vector<std::string> differences(const ResolvedConfig& other, std::string_view this_label,
+                                       std::string_view other_label,
+                                       const std::set<std::string>& ignored = {},
+                                       std::size_t limit = SIZE_MAX) const;
+
   bool operator==(const ResolvedConfig& other) const;
 
  private:
@@ -58,6 +76,7 @@ class ResolvedConfig {
     bool given = false;
   };
   std::map<std::string, Entry> values_;
+  std::map<std::string, std::string> unused_;  // key -> why
 };
 
 // Canonical TOML texts of typed values, as ResolvedConfig records them: integers

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <optional>
+#include <set>
 #include <tuple>
 #include <utility>
 
@@ -442,6 +444,53 @@ ResolvedConfig resolved_of(const Study& study) {
   }
   resolved.replace("study.axes", "[" + axes + "]", true);
   return resolved;
+}
+
+std::string resolved_job_toml(const Study& study) {
+  const ResolvedConfig resolved = resolved_of(study);
+  std::set<std::string> axis_keys = {"study.axes"};
+  for (const StudyAxis& axis : study.axes) axis_keys.insert(axis.keys.begin(), axis.keys.end());
+  // Each key under its table ("khepera.motion.turn_deg": [khepera.motion] turn_deg);
+  // the root's keys (name, task, runs, seed) first, as TOML requires.
+  std::map<std::string, std::string> tables;
+  for (const std::string& key : resolved.keys()) {
+    if (axis_keys.count(key) > 0) continue;
+    const std::size_t dot = key.rfind('.');
+    const std::string table = dot == std::string::npos ? "" : key.substr(0, dot);
+    const std::string name = dot == std::string::npos ? key : key.substr(dot + 1);
+    const std::string line = name + " = " + *resolved.value(key);
+    // Unused in any configuration: giving it would be refused at that point.
+    std::optional<std::string> unused;
+    for (const RunConfiguration& configuration : study.configurations) {
+      if (!unused) unused = configuration.job.resolved.unused_reason(key);
+    }
+    tables[table] += unused ? "# " + line + "  (unused: " + *unused + ")\n" : line + "\n";
+  }
+  std::string zips;
+  for (const StudyAxis& axis : study.axes) {
+    std::string lines;
+    for (std::size_t k = 0; k < axis.keys.size(); ++k) {
+      std::string values;
+      for (const auto& value : axis.values) values += (values.empty() ? "" : ", ") + value[k];
+      lines += canonical_string(axis.keys[k]) + " = [" + values + "]\n";
+    }
+    if (axis.keys.size() == 1) {
+      tables["sweep"] += lines;
+    } else {
+      zips += "\n[[sweep.zip]]\n" + lines;
+    }
+  }
+  std::string text =
+      "# The resolved job (ggk validate --print): every key ggk reads, with the value it\n"
+      "# uses, defaults filled in.\n";
+  text += tables[""];
+  for (const auto& [table, lines] : tables) {
+    if (table.empty()) continue;
+    text += "\n[" + table + "]\n" + lines;
+    if (table == "sweep") text += zips;
+  }
+  if (tables.count("sweep") == 0 && !zips.empty()) text += "\n[sweep]" + zips;
+  return text;
 }
 
 std::string study_values_text(const std::vector<AxisAssignment>& assignments) {

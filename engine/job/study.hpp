@@ -134,6 +134,12 @@ Study study_of(JobSpec job);
 // axes' keys in order, zipped keys joined by '+'.
 ResolvedConfig resolved_of(const Study& study);
 
+// The study as a job file (`ggk validate --print`): every key the job reader
+// read, with the value it used (defaults filled in), grouped into TOML tables;
+// the study axes in [sweep] as quoted dotted keys, zipped ones as [[sweep.zip]]
+// blocks. Read back, it is the same study (its resolved_of is equal).
+std::string resolved_job_toml(const Study& study);
+
 // A configuration's study values as stored with its group: `key = value`
 // lines, in axis order.
 std::string study_values_text(const std::vector<AxisAssignment>& assignments);

@@ -111,6 +111,12 @@ class TomlTableReader {
   // `resolved` (resolved_config.hpp).
   void record_into(std::shared_ptr<ResolvedConfig> resolved) { resolved_ = std::move(resolved); }
 
+  // A key read (and recorded) that the job's other choices leave unused, and
+  // why: ResolvedConfig::mark_unused.
+  void mark_unused(std::string_view key, std::string why) const {
+    if (resolved_) resolved_->mark_unused(key_path(key), std::move(why));
+  }
+
   const std::string& file() const { return file_; }
   const std::string& table_path() const { return table_path_; }
   // Dotted path of a key of this table ("lspi.gamma").

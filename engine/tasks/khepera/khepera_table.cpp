@@ -178,6 +178,10 @@ khepera::SensorModel parse_sensor_model(const TomlTableReader& table) {
   model.detection_threshold =
       table.number("detection_threshold", NumberRange::at_least(0.0), model.detection_threshold);
   model.max_reading = table.number("max_reading", NumberRange::above(0.0), model.max_reading);
+  const std::string unused = "noise_model is \"" + noise + "\"";
+  if (noise != "proportional") table.mark_unused("noise_fraction", unused);
+  if (noise == "proportional") table.mark_unused("noise_sd", unused);
+  if (noise != "threshold") table.mark_unused("detection_threshold", unused);
   return model;
 }
 

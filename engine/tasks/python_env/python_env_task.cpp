@@ -12,6 +12,7 @@
 #include <pybind11/embed.h>
 #include <toml++/toml.h>
 
+#include "engine/job/job_input.hpp"
 #include "engine/tasks/continuous_protocol.hpp"
 #include "engine/tasks/continuous_table.hpp"
 #include "engine/tasks/continuous_task.hpp"
@@ -293,10 +294,18 @@ PythonEnvTask parse_table(const TomlTableReader& job, const fs::path& job_dir) {
   }
   if (table->has("path")) {
     const std::string path = table->string("path");
-    const fs::path folder = fs::absolute(job_dir / path).lexically_normal();
+    fs::path folder = fs::absolute(job_dir / path).lexically_normal();
     std::error_code error;
+    // As for maps and arenas (job_input.hpp): a relative folder missing beside a
+    // job copied out of the project is looked up in the project's jobs/ folder.
+    const fs::path shipped = project_jobs_dir();
+    if (!fs::is_directory(folder, error) && fs::path(path).is_relative() && !shipped.empty() &&
+        fs::is_directory(shipped / path, error)) {
+      folder = (shipped / path).lexically_normal();
+    }
     if (!fs::is_directory(folder, error)) {
-      table->fail("path", "no folder " + folder.string() + " (relative to the job file's folder)");
+      table->fail("path", "no folder " + folder.string() +
+                              " (relative to the job file's folder, else to the project's jobs/)");
     }
     task.module_path = folder.string();
   }

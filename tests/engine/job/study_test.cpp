@@ -224,6 +224,42 @@ TEST(Study, ASweepOptionsErrorNamesTheOptionAndTheKeyAsWritten) {
       << error;
 }
 
+// ggk validate --print: every shipped job (studies, zipped axes, a khepera noise
+// model that leaves keys unused, a Python environment's folder) printed resolved
+// reads back as the same study, and prints the same again.
+TEST(Study, EveryShippedJobPrintedResolvedReadsBackAsTheSameStudy) {
+  std::size_t jobs = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(jobs_dir())) {
+    if (entry.path().extension() != ".toml") continue;
+    SCOPED_TRACE(entry.path().filename().string());
+    const Study study = load_study(entry.path(), task_tables(), no_output_check());
+    const std::string printed = resolved_job_toml(study);
+    const Study again = study_of(printed);
+    EXPECT_TRUE(resolved_of(again) == resolved_of(study))
+        << resolved_of(study)
+               .difference(resolved_of(again), "the job", "the printed job")
+               .value_or("");
+    EXPECT_EQ(resolved_job_toml(again), printed);
+    ++jobs;
+  }
+  EXPECT_GE(jobs, 20u);
+}
+
+TEST(Study, APrintedJobShowsTheKeysItsChoicesLeaveUnusedAsComments) {
+  const Study study = study_of(
+      "name = \"noise\"\ntask = \"khepera\"\nruns = 1\nseed = 1\n"
+      "[sweep]\nkernels = [10]\nsigma = [1000.0]\n"
+      "[khepera]\narena_file = \"arenas/default.toml\"\n"
+      "[khepera.sensors]\nnoise_model = \"threshold\"\n");
+  const std::string printed = resolved_job_toml(study);
+  EXPECT_NE(printed.find("\n# noise_fraction = 0.04  (unused: noise_model is \"threshold\")\n"),
+            std::string::npos)
+      << printed;
+  EXPECT_NE(printed.find("\ndetection_threshold = "), std::string::npos);
+  EXPECT_NE(printed.find("\nnoise_sd = "), std::string::npos);
+  EXPECT_TRUE(resolved_of(study_of(printed)) == resolved_of(study));
+}
+
 TEST(Study, ParseJobRefusesAStudy) {
   try {
     parse_job(maze_job("\"maze.slip\" = [0.0, 0.1]"), jobs_dir() / "study.toml", task_tables(),
