@@ -19,6 +19,15 @@
 //    the root's `job_file` (the path as typed), `git`, `ggk_version`, `blas` and
 //    `runs_selected` (a shard's range); differences there are printed as notes;
 //  - the /.staging group (the writer's scratch space).
+// Where both files record their jobs' meaning (job_resolved) and the jobs differ,
+// every key that differs is named in a note (the job is provenance: the results
+// say whether they are the same), and the files are compared by value: a study's
+// configuration groups paired by their values (study_values), fits by their
+// group names (which are their points), the fit tables (fit_metrics, summary)
+// row by row matched by the point's columns; the numbering (sweep_point,
+// configuration) is then not compared. With `common`, what one file holds and
+// the other does not is a note: `ggk diff --common` of a study with slip 0.0, 0.2
+// against one with 0.0, 0.1, 0.2 compares the points both hold.
 // `ggk diff` exits 0 when the results are the same (within the tolerance), 1 when
 // they differ, 2 on a usage error (a file that is no results file, two files of
 // different tasks, a negative tolerance).
@@ -39,6 +48,9 @@ namespace ggk::engine {
 struct DiffOptions {
   Tolerance tolerance;
   std::vector<std::string> exclude;  // fnmatch globs on printed paths
+  // What only one file holds (a configuration, run, fit or row of a study with
+  // other values) is a note, not a difference: the points both hold are compared.
+  bool common = false;
 };
 
 bool diff_results(const std::filesystem::path& a, const std::filesystem::path& b, std::ostream& out,

@@ -100,11 +100,18 @@ respelled)
   [ "$(diff_status "$scratch/out" "$scratch/a.h5" "$scratch/b.h5")" = 0 ] ||
     fail "respelled job: $(cat "$scratch/out")"
   grep -q "job_overrides: " "$scratch/out" || fail "the spelling is not noted: $(cat "$scratch/out")"
-  # Another value is another job: job_resolved differs.
+  # Another value is another job: the key that differs is named in a note, and
+  # the fits of the other sigma are only in one file each.
   "$GGK" run "$quick" -q -o "$scratch/c.h5" --set 'sweep.sigma=[10.5]' || fail "run c"
   [ "$(diff_status "$scratch/out" "$scratch/a.h5" "$scratch/c.h5")" = 1 ] ||
     fail "another sigma: not exit 1"
-  grep -q "^differs: / @job_resolved" "$scratch/out" || fail "job_resolved: $(cat "$scratch/out")"
+  grep -q "^note: the jobs differ in 1 key: sweep.sigma: \[10.0\] in the first file, \[10.5\] in the second file" \
+    "$scratch/out" || fail "job_resolved: $(cat "$scratch/out")"
+  ! grep -q "^differs: / @job_resolved" "$scratch/out" || fail "job_resolved as a difference"
+  # --common: no fit in both files is no "same results".
+  [ "$(diff_status "$scratch/out" "$scratch/a.h5" "$scratch/c.h5" --common)" = 1 ] ||
+    fail "--common of files without a shared fit: $(cat "$scratch/out")"
+  grep -q "share no fit" "$scratch/out" || fail "--common: $(cat "$scratch/out")"
   ;;
 usage)
   "$GGK" run "$GGK_SOURCE_DIR/jobs/quick.toml" -q -o "$scratch/maze.h5" || fail "maze run"

@@ -234,5 +234,84 @@ TEST_F(ResultsDiffTest, AFileThatIsNoResultsFileIsAUsageError) {
   EXPECT_THROW(diff_results(dir_ / "plain.h5", dir_ / "a.h5", out), UsageError);
 }
 
+// ggk diff of two studies of one job with other values of an axis: matched by
+// value, the points both hold are the same results; --common compares only them.
+class DiffByValue : public GgkBinaryTest {
+ protected:
+  void SetUp() override {
+    GgkBinaryTest::SetUp();
+    if (IsSkipped() || HasFatalFailure()) return;
+    job_ = write_file(dir_ / "job.toml", determinism_job(dir_ / "unused.h5"));
+  }
+
+  // The job with `options` (--set / --sweep ...) into dir_/name.
+  void run(const std::string& name, std::vector<std::string> options) const {
+    std::vector<std::string> args = {"run", job_.string(),          "-q",    "-j",    "2",
+                                     "-o",  (dir_ / name).string(), "--set", "runs=2"};
+    args.insert(args.end(), options.begin(), options.end());
+    const Outcome ran = ggk(args);
+    ASSERT_EQ(ran.status, 0) << ran.err;
+  }
+
+  Outcome diff(const std::string& a, const std::string& b, bool common = false) const {
+    std::vector<std::string> args = {"diff", (dir_ / a).string(), (dir_ / b).string()};
+    if (common) args.emplace_back("--common");
+    return ggk(args);
+  }
+
+  fs::path job_;
+};
+
+// Every "differs:" line of `printed`.
+std::vector<std::string> differing_lines(const std::string& printed) {
+  std::vector<std::string> lines;
+  std::istringstream in(printed);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("differs: ", 0) == 0) lines.push_back(line);
+  }
+  return lines;
+}
+
+TEST_F(DiffByValue, StudiesWithMoreValuesShareTheirCommonPoints) {
+  run("two.h5", {"--sweep", "maze.slip=0.0,0.2"});
+  run("three.h5", {"--sweep", "maze.slip=0.0,0.1,0.2"});
+  // Without --common: what only the larger study holds is the only difference.
+  const Outcome plain = diff("two.h5", "three.h5");
+  EXPECT_EQ(plain.status, 1) << plain.out;
+  EXPECT_TRUE(contains(plain.out,
+                       "note: the jobs differ in 1 key: maze.slip: [0.0, 0.2] in the first file, "
+                       "[0.0, 0.1, 0.2] in the second file"));
+  const std::vector<std::string> lines = differing_lines(plain.out);
+  ASSERT_FALSE(lines.empty());
+  for (const std::string& line : lines) {
+    EXPECT_TRUE(contains(line, "only in the second file")) << line;
+    EXPECT_TRUE(contains(line, "maze.slip = 0.1")) << line;
+  }
+  EXPECT_TRUE(contains(plain.out, "--common compares what both hold"));
+  // --common: the shared configurations (slip 0.0 and 0.2) are the same results.
+  const Outcome common = diff("two.h5", "three.h5", true);
+  EXPECT_EQ(common.status, 0) << common.out;
+  EXPECT_TRUE(contains(common.out, "same results: "));
+  EXPECT_TRUE(contains(common.out, "only in one file, not compared (--common)"));
+
+  // A fit-level axis with one more value: the runs' shared fits are the same.
+  run("k2.h5", {"--sweep", "kernels=4,8"});
+  run("k3.h5", {"--sweep", "kernels=4,6,8"});
+  EXPECT_EQ(diff("k2.h5", "k3.h5").status, 1);
+  const Outcome kernels = diff("k3.h5", "k2.h5", true);
+  EXPECT_EQ(kernels.status, 0) << kernels.out;
+}
+
+TEST_F(DiffByValue, ResultsThatDifferAtASharedPointAreStillADifference) {
+  run("two.h5", {"--sweep", "maze.slip=0.0,0.2"});
+  // The same slips with shorter tests: other metrics at every shared point.
+  run("short.h5", {"--sweep", "maze.slip=0.0,0.1,0.2", "--set", "maze.test_max_steps=3"});
+  const Outcome common = diff("two.h5", "short.h5", true);
+  EXPECT_EQ(common.status, 1) << common.out;
+  EXPECT_TRUE(contains(common.out, "note: the jobs differ in 2 keys: "));
+  EXPECT_TRUE(contains(common.out, "maze.test_max_steps: 40 in the first file, 3 in the second"));
+  EXPECT_TRUE(contains(common.out, "rows matched by their point differ"));
+}
+
 }  // namespace
 }  // namespace ggk::engine
