@@ -28,13 +28,8 @@ from matplotlib.colors import ListedColormap, SymLogNorm  # noqa: E402
 
 # ggk_results from this checkout (python/), installed or not (python/README.md).
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
-from ggk_results import (add_format_argument, curve, error_bars, facet_title, facets,  # noqa: E402
-                         legend_below, read_summary, run_group, save, select_where)
-
-STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)"),
-         "pvf": ("tab:green", "^", "proto-value functions (PVF)")}
-# The curves' bases, in drawing order; a basis the file lacks draws no curve.
-CURVE_BASES = ("ggk", "ogk", "pvf")
+from ggk_results import (BASIS_STYLE, add_format_argument, metric_panels,  # noqa: E402
+                         plot_metric, read_summary, run_group, save, select_where)
 
 
 def grid_axes(run_group):
@@ -142,7 +137,7 @@ def fig_values(f, out, kernels, run_index, fmt, configuration, label):
         ax.plot(e, s, "w-", linewidth=2)
         ax.plot(e[:1], s[:1], "w*", markersize=14)
         reached = fit.attrs["success_from_A"] == 1
-        ax.set_title(f"{STYLE[basis][2]}, {kernels} kernels{shown}: from A "
+        ax.set_title(f"{BASIS_STYLE[basis][2]}, {kernels} kernels{shown}: from A "
                      f"{'reaches the goal' if reached else 'fails'}", fontsize=10)
         ax.set_xlabel("elbow angle (deg)")
         ax.set_ylabel("shoulder angle (deg)")
@@ -156,26 +151,14 @@ def fig_values(f, out, kernels, run_index, fmt, configuration, label):
 
 def fig_success(summary, out, fmt):
     runs = len(set(summary["run"]))
-    rows = facets(summary, shown=("kernels", "basis"))
-    fig, axes = plt.subplots(len(rows), 2, figsize=(11, 4 * len(rows)), squeeze=False)
+    # A row per value of every swept axis besides kernels and basis (a study's
+    # too): plot_metric draws one metric into each column, dodged, on 0-100 %.
+    rows = metric_panels(summary)
+    fig, axes = plt.subplots(len(rows), 2, figsize=(11, 4.4 * len(rows)), squeeze=False)
     metrics = (("success_from_A", "success from A (% of runs, Wilson CI)"),
                ("success_rate", "success from all free poses (%, t CI)"))
-    for row, facet in zip(axes, rows):
-        for ax, (metric, label) in zip(row, metrics):
-            for basis in CURVE_BASES:
-                k, est, low, high = curve(summary, metric, basis=basis, **facet)
-                if len(k) == 0:
-                    continue
-                color, marker, name = STYLE[basis]
-                ax.errorbar(k, 100 * est, yerr=100 * error_bars(est, low, high), color=color,
-                            marker=marker, capsize=3, label=name)
-            ax.set_xlabel("number of kernels")
-            ax.set_ylabel(label)
-            if facet:
-                ax.set_title(facet_title(facet), fontsize=10)
-            ax.set_ylim(0, 100)
-            ax.grid(alpha=0.3)
-            legend_below(ax)
+    for column, (metric, label) in enumerate(metrics):
+        plot_metric(summary, metric, axes=axes[:, column], ylabel=label)
     fig.suptitle(f"robot arm, {runs} runs, 95 % CI")
     fig.tight_layout()
     saved = save(fig, out, "arm_success", fmt)

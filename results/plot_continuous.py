@@ -40,12 +40,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 # ggk_results from this checkout (python/), installed or not (python/README.md).
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
-from ggk_results import (add_format_argument, curve, error_bars, facet_title, facets,  # noqa: E402
-                         legend_below, read_summary, run_group, save)
+from ggk_results import (BASIS_STYLE, add_format_argument, legend_below,  # noqa: E402
+                         metric_panels, metric_range, plot_metric, read_summary, run_group, save)
 
-STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)"),
-         "pvf": ("tab:green", "^", "proto-value functions (PVF)")}
-CURVE_BASES = ("ggk", "ogk", "pvf")
 # The tasks' ended metric, what the test counts, and the observation's names.
 TASKS = {
     "pendulum": ("fall_fraction", "episodes in which the pendulum fell (%)",
@@ -62,38 +59,19 @@ def text(value):
     return value.decode() if isinstance(value, bytes) else str(value)
 
 
-def fig_steps(summary, task, out, test_max_steps, fmt):
+def fig_steps(summary, task, out, job, fmt):
     ended, ended_label, _ = TASKS[task]
+    test_max_steps = int(job[f"{task}.test_max_steps"])
     runs = len(set(summary["run"]))
-    solvers = sorted(set(summary["solver"]))
-    rows = facets(summary, shown=("kernels", "basis", "solver"))
-    fig, axes = plt.subplots(len(rows), 2, figsize=(11, 4.6 * len(rows)), squeeze=False)
-    panels = (("mean_steps", 1, f"mean test-episode length (steps, at most {test_max_steps})",
-               test_max_steps), (ended, 100, ended_label, 100))
-    for row, facet in zip(axes, rows):
-        for ax, (metric, factor, label, top) in zip(row, panels):
-            slots = len(CURVE_BASES) * len(solvers)
-            for s_index, solver in enumerate(solvers):
-                for b_index, basis in enumerate(CURVE_BASES):
-                    k, est, low, high = curve(summary, metric, basis=basis, solver=solver,
-                                              **facet)
-                    if len(k) == 0:
-                        continue
-                    color, marker, name = STYLE[basis]
-                    # Dodged sideways so that no curve or interval hides another.
-                    slot = len(CURVE_BASES) * s_index + b_index - (slots - 1) / 2
-                    dodge = slot * 0.008 * max(1, np.ptp(summary["kernels"]))
-                    ax.errorbar(k + dodge, factor * est,
-                                yerr=factor * error_bars(est, low, high), color=color,
-                                marker=marker, linestyle=("-", "--", ":")[s_index % 3],
-                                capsize=3, label=f"{name}, {solver.upper()}")
-            ax.set_xlabel("number of kernels")
-            ax.set_ylabel(label)
-            ax.set_ylim(0, top * 1.02)  # the metric's whole range
-            if facet:
-                ax.set_title(facet_title(facet), fontsize=10)
-            ax.grid(alpha=0.3)
-            legend_below(ax)
+    hue = ("basis", "solver")  # solvers by line style; plot_metric dodges every curve
+    rows = metric_panels(summary, hue=hue)
+    fig, axes = plt.subplots(len(rows), 2, figsize=(11, 4.8 * len(rows)), squeeze=False)
+    panels = (("mean_steps", f"mean test-episode length (steps, at most {test_max_steps})"),
+              (ended, ended_label))
+    for column, (metric, label) in enumerate(panels):
+        # The metric's whole range (0 to test_max_steps steps, 0-100 %).
+        plot_metric(summary, metric, hue=hue, axes=axes[:, column], ylabel=label,
+                    value_range=metric_range(metric, task, job))
     fig.suptitle(f"{task.replace('_', ' ')}, {runs} runs, greedy test episodes, 95 % CI")
     fig.tight_layout()
     saved = save(fig, out, f"{task}_steps", fmt, dpi=120)
@@ -163,7 +141,7 @@ def fig_values(f, task, out, run_index, kernels, solver, grid, fmt):
         ax.set_ylim(ys[0], ys[-1])
         ax.set_xlabel(names[0])
         ax.set_ylabel(names[1])
-        ax.set_title(f"{STYLE[basis][2]}, {kernels} kernels, {solver.upper()}, "
+        ax.set_title(f"{BASIS_STYLE[basis][2]}, {kernels} kernels, {solver.upper()}, "
                      f"{len(trajectory) - 1} steps", fontsize=10)
         legend_below(ax, ncol=1)
     fig.suptitle(f"{task.replace('_', ' ')}: value functions of run {run_index} "
@@ -195,8 +173,7 @@ def main():
     out = Path(args.out_dir)
     out.mkdir(parents=True, exist_ok=True)
     summary = read_summary(args.results, task)
-    test_max_steps = int(job[f"{task}.test_max_steps"])
-    print(fig_steps(summary, task, out, test_max_steps, args.format))
+    print(fig_steps(summary, task, out, job, args.format))
     with h5py.File(args.results, "r") as f:
         dimension = run_group(f, task, args.run)["samples/observations"].shape[1]
     if TASKS[task][2] is None or dimension != 2:

@@ -45,16 +45,13 @@ from matplotlib.lines import Line2D  # noqa: E402
 
 # ggk_results from this checkout (python/), installed or not (python/README.md).
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "python"))
-from ggk_results import (add_format_argument, curve, error_bars, facet_title, facets,  # noqa: E402
-                         legend_below, read_summary, run_group, save, select_where)
+from ggk_results import (BASIS_STYLE, add_format_argument, job_settings,  # noqa: E402
+                         metric_panels, metric_range, plot_metric, read_summary, run_group,
+                         save, select_where)
 
 FORMAT = "png"  # --format: the file type of every figure
 CONFIGURATION = None  # --where: the study's run configuration shown (None: a plain job's runs)
 
-STYLE = {"ggk": ("tab:red", "o", "geodesic (GGK)"), "ogk": ("tab:blue", "s", "ordinary (OGK)"),
-         "pvf": ("tab:green", "^", "proto-value functions (PVF)")}
-# The curves' bases, in drawing order; a basis the file lacks draws no curve.
-CURVE_BASES = ("ggk", "ogk", "pvf")
 # Actions of sims/khepera (motion.hpp): symbol and colour as in paper Fig. 5.
 ACTIONS = [("\u2191", "forward", "tab:green"), ("\u2190", "rotate left", "tab:blue"),
            ("\u2192", "rotate right", "tab:orange"), ("\u2193", "backward", "tab:red")]
@@ -224,7 +221,7 @@ def fig_policies(f, out, run_index, kernels, solver, prefix):
         ax.set_yticks([])
         ax.set_xlabel(f"SOM grid ({rows} x {cols} units)")
         counts = np.bincount(policy[occupied], minlength=4)
-        ax.set_title(f"{STYLE[basis][2]}, {kernels} kernels, {solver.upper()}: mean return "
+        ax.set_title(f"{BASIS_STYLE[basis][2]}, {kernels} kernels, {solver.upper()}: mean return "
                      f"{fit.attrs['mean_return']:.1f}\n"
                      + ",  ".join(f"{ACTIONS[a][0]} {counts[a]}" for a in range(4))
                      + " units", fontsize=10)
@@ -256,44 +253,22 @@ def fig_policies(f, out, run_index, kernels, solver, prefix):
     plt.close(fig)
 
 
-def fig_return(summary, out, test_max_steps, prefix):
+def fig_return(summary, out, test_max_steps, prefix, job):
     runs = len(set(summary["run"]))
-    solvers = sorted(set(summary["solver"]))
-    # A row of panels per value of every other swept axis (sigma, lambda): no
-    # axis is pooled; solvers are told apart by line style.
-    rows = facets(summary, shown=("kernels", "basis", "solver"))
-    fig, axes = plt.subplots(len(rows), 2, figsize=(11, 4.6 * len(rows)), squeeze=False)
-    panels = (("mean_return", 1, f"mean evaluation return (at most {test_max_steps})"),
-              ("collision_fraction", 100, "episodes stopped by a collision (%)"))
-    for row, facet in zip(axes, rows):
-        for ax, (metric, factor, label) in zip(row, panels):
-            lowest = 0.0
-            for s_index, solver in enumerate(solvers):
-                for b_index, basis in enumerate(CURVE_BASES):
-                    k, est, low, high = curve(summary, metric, basis=basis, solver=solver,
-                                              **facet)
-                    if len(k) == 0:
-                        continue
-                    lowest = min(lowest, float(np.nanmin(factor * low)) if np.any(
-                        np.isfinite(low)) else 0.0)
-                    color, marker, name = STYLE[basis]
-                    # Curves shifted a little sideways so that the CIs do not overprint.
-                    slot = (len(CURVE_BASES) * s_index + b_index
-                            - (len(CURVE_BASES) * len(solvers) - 1) / 2)
-                    dodge = slot * 0.005 * max(1, np.ptp(summary["kernels"]))
-                    ax.errorbar(k + dodge, factor * est,
-                                yerr=factor * error_bars(est, low, high), color=color,
-                                marker=marker, linestyle=("-", "--", ":")[s_index % 3], capsize=3,
-                                label=f"{name}, {solver.upper()}" if len(solvers) > 1 else name)
-            ax.set_xlabel("number of kernels")
-            ax.set_ylabel(label)
-            if facet:
-                ax.set_title(facet_title(facet), fontsize=10)
-            # The whole range a value can take (a return of at most test_max_steps,
-            # a percentage), so that an effect reads at its size.
-            ax.set_ylim(lowest, test_max_steps if metric == "mean_return" else 100)
-            ax.grid(alpha=0.3)
-            legend_below(ax)
+    # A row of panels per value of every other swept axis (sigma, lambda, a
+    # study's): no axis is pooled; solvers are told apart by line style, and
+    # plot_metric dodges the curves so that none hides another.
+    hue = ("basis", "solver")
+    rows = metric_panels(summary, hue=hue)
+    fig, axes = plt.subplots(len(rows), 2, figsize=(11, 4.8 * len(rows)), squeeze=False)
+    panels = (("mean_return", f"mean evaluation return (at most {test_max_steps})"),
+              ("collision_fraction", "episodes stopped by a collision (%)"))
+    for column, (metric, label) in enumerate(panels):
+        # The whole range a value can take (a return from a collision at the
+        # first step to test_max_steps forward moves, a percentage), widened to
+        # every interval, so that an effect reads at its size.
+        plot_metric(summary, metric, hue=hue, axes=axes[:, column], ylabel=label,
+                    value_range=metric_range(metric, "khepera", job))
     fig.suptitle(f"Khepera, {runs} runs, {test_max_steps} greedy steps from the start pose "
                  f"(+1 forward, -2 collision), 95 % CI")
     fig.tight_layout()
@@ -389,7 +364,8 @@ def fig_trajectories(f, out, run_index, kernels, solver, arena, radius, test_max
                             start[1] + 2.2 * radius * math.sin(start[2])),
                     xytext=start[:2], arrowprops=dict(arrowstyle="->", color="k", lw=1.5),
                     zorder=5)
-        ax.set_title(f"{STYLE[basis][2]}, {kernels} kernels, {solver.upper()}, run {run_index}\n"
+        ax.set_title(f"{BASIS_STYLE[basis][2]}, {kernels} kernels, {solver.upper()}, "
+                     f"run {run_index}\n"
                      f"{len(names)} episodes, mean return {returns.mean():.1f}, "
                      f"{collisions} stopped by a collision\nsteps taken: "
                      + ",  ".join(f"{ACTIONS[a][0]} {counts[a]}" for a in range(4)),
@@ -454,7 +430,9 @@ def main():
         fig_policies(f, out, args.run, kernels, solver, args.prefix)
         fig_trajectories(f, out, args.run, kernels, solver, arena, radius, test_max_steps,
                          args.prefix)
-    fig_return(summary, out, test_max_steps, args.prefix)
+    # The file's resolved job names every setting; a file older than it, the job's.
+    job = job_settings(args.results) or {"khepera.test_max_steps": test_max_steps}
+    fig_return(summary, out, test_max_steps, args.prefix, job)
     for name in ("graph", "policies", "return", "trajectories"):
         print(out / f"{args.prefix}_{name}.{args.format}")
 

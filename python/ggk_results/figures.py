@@ -1,6 +1,7 @@
 """What the plot scripts share: one panel per value of every swept axis a
-figure does not show (facets), a metric's curve over kernel counts that refuses
-to pool an axis (curve), error bars, legends and saving. `summary` is a dict of
+figure does not show (facets), a metric's curve over one axis (kernel counts by
+default) that refuses to pool another (curve), error bars, legends and saving;
+metric_figure.py draws whole figures from them. `summary` is a dict of
 numpy columns (read_summary)."""
 
 from pathlib import Path
@@ -52,29 +53,36 @@ def facets(summary, shown, fixed=None):
     return combos
 
 
+def value_text(value):
+    """An axis value as a title shows it: numbers without a trailing .0 (10, 1e-06)."""
+    if isinstance(value, (float, np.floating)):
+        return f"{float(value):g}"
+    return str(value)
+
+
 def facet_title(facet):
-    return ", ".join(f"{k} {v}" for k, v in facet.items())
+    return ", ".join(f"{k} {value_text(v)}" for k, v in facet.items())
 
 
-def curve(summary, metric, **fixed):
-    """(kernel counts, estimates, CI low, CI high) of `metric` over runs, for the
-    rows whose columns equal `fixed` (e.g. basis="ggk", solver="brm"); the
+def curve(summary, metric, x="kernels", **fixed):
+    """(values of axis x, estimates, CI low, CI high) of `metric` over runs, for
+    the rows whose columns equal `fixed` (e.g. basis="ggk", solver="brm"); the
     interval is metric_ci's. Refuses (ValueError) to pool rows of an axis that
     still has several values."""
     mask = _mask(summary, fixed)
-    pooled = [a for a in axes_of(summary) if a != "kernels" and a not in fixed
+    pooled = [a for a in axes_of(summary) if a != x and a not in fixed
               and len(axis_values(summary, a, mask)) > 1]
     if pooled:
         raise ValueError(f"{metric}: the rows selected by {fixed} sweep {', '.join(pooled)}; "
                          "fix each (a facet per value) instead of pooling them")
-    kernels = np.array(axis_values(summary, "kernels", mask))
+    xs = np.array(axis_values(summary, x, mask))
     estimates, lows, highs = [], [], []
-    for k in kernels:
-        e, lo, hi = metric_ci(summary[metric][mask & (summary["kernels"] == k)], metric)
+    for value in xs:
+        e, lo, hi = metric_ci(summary[metric][mask & (summary[x] == value)], metric)
         estimates.append(e)
         lows.append(lo)
         highs.append(hi)
-    return kernels, np.array(estimates), np.array(lows), np.array(highs)
+    return xs, np.array(estimates), np.array(lows), np.array(highs)
 
 
 def error_bars(estimates, lows, highs):
