@@ -144,6 +144,7 @@ RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
                                " lacks runs but none is outstanding");
       }
       writer.add_runs_to_write(static_cast<std::int32_t>(look.size()));
+      writer.expect_units(look);
       compute_units(study, look, writer, tally);
       writer.wait();
       for (const WorkUnit& unit : look) outstanding.erase({unit.configuration, unit.run});

@@ -103,7 +103,11 @@ void compute_units(const Study& study, std::span<const WorkUnit> units, JobWrite
   tbb::parallel_for(
       std::size_t{0}, units.size(),
       [&](std::size_t i) {
-        auto record = std::make_shared<const RunRecord>(compute_unit(study, units[i]));
+        const auto started = std::chrono::steady_clock::now();
+        RunRecord computed = compute_unit(study, units[i]);
+        computed.compute_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        auto record = std::make_shared<const RunRecord>(std::move(computed));
         tally.failed_fits.fetch_add(failed_fits_of(*record));
         tally.fits.fetch_add(static_cast<std::int64_t>(record->fits.size()));
         tally.warnings.add(*record);
@@ -164,6 +168,7 @@ RunSummary run_study(const Study& study, const RunOptions& options) {
   RunTally tally;
   JobWriter writer(study, options, std::move(opened), static_cast<std::int32_t>(pending.size()),
                    StopSignals::Mode::kStopInHandler);
+  writer.expect_units(pending);
   try {
     compute_units(study, pending, writer, tally);
     writer.finish();

@@ -49,6 +49,7 @@ void JobWriter::commit(std::shared_ptr<const RunRecord> record) {
       write_run(file, configuration.job, *record);
     }
     target_.publish(file);  // a new file takes its name with its first run
+    progress_->unit_cost(record->configuration, record->compute_seconds);
     committed();
   });
 }

@@ -63,6 +63,10 @@ class JobWriter {
   }
   // An adaptive study's next look (progress.hpp).
   void add_runs_to_write(std::int32_t runs) { progress_->add_runs(runs); }
+  // The units this process computes: their configurations' costs weigh the ETA.
+  void expect_units(std::span<const WorkUnit> units) {
+    for (const WorkUnit& unit : units) progress_->expect_unit(unit.configuration);
+  }
   void set_stage(std::string text) { progress_->set_stage(std::move(text)); }
   bool failed() const { return writer_.failed(); }
   std::int32_t written() const { return written_.load(); }

@@ -11,8 +11,11 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <optional>
+#include <span>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace ggk::engine {
 
@@ -23,8 +26,27 @@ std::string eta_text(std::int64_t done, std::int64_t total, double elapsed_secon
 // What the display says (without the bar): "runs 0/1, fits 10/40, 2.0 fits/s,
 // elapsed 5s, eta 15s". fits_done < 0: fits are not counted here (an MPI rank 0,
 // whose workers' fits it does not see): runs only, fits/s from whole runs.
+// eta_seconds: an estimate made otherwise (weighted_seconds_left), shown instead.
 std::string progress_text(std::int32_t runs_done, std::int32_t total_runs, std::int64_t fits_done,
-                          std::int64_t total_fits, double elapsed_seconds);
+                          std::int64_t total_fits, double elapsed_seconds,
+                          std::optional<double> eta_seconds = std::nullopt);
+
+// The units of one run configuration: how many the job computes, how many have
+// ended and the seconds they took together.
+struct ConfigurationProgress {
+  std::int64_t expected = 0;
+  std::int64_t done = 0;
+  double seconds = 0.0;
+};
+
+// The time left when each configuration's units cost what its ended ones did (a
+// configuration none of whose units has ended: the mean of all ended units), at
+// the pace of the work so far (the ended units' seconds per elapsed second: the
+// threads that computed them). nullopt before a unit has ended. Configurations
+// of different cost (a larger SOM, more samples) then weigh as they should: two
+// cheap configurations done first no longer promise that the dear ones go as fast.
+std::optional<double> weighted_seconds_left(std::span<const ConfigurationProgress> configurations,
+                                            double elapsed_seconds);
 
 class Progress {
  public:
@@ -36,6 +58,10 @@ class Progress {
   Progress& operator=(const Progress&) = delete;
 
   void run_done() { runs_done_.fetch_add(1, std::memory_order_relaxed); }
+  // The units the job computes, by configuration (their costs weigh the ETA), and
+  // one that ended after `seconds` of computing (with run_done()).
+  void expect_unit(std::int32_t configuration);
+  void unit_cost(std::int32_t configuration, double seconds);
   // An adaptive study's next look: `runs` more to do, and what the line leads
   // with ("look 2, 14 of 216 cells open").
   void add_runs(std::int32_t runs) { total_runs_.fetch_add(runs, std::memory_order_relaxed); }
@@ -56,7 +82,8 @@ class Progress {
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stopping_ = false;
-  std::string stage_;  // under mutex_
+  std::string stage_;                                  // under mutex_
+  std::vector<ConfigurationProgress> configurations_;  // under mutex_
   std::thread printer_;
 };
 

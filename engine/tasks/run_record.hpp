@@ -79,6 +79,9 @@ struct RunRecord {
   // The fits are those a stored complete run lacks (WorkUnit::points): the
   // store extends that run with them (store/run_extension.hpp).
   bool extension = false;
+  // Wall time the unit took to compute (job_runner's compute_units): the progress
+  // display's cost of its configuration; never written to the file.
+  double compute_seconds = 0.0;
 };
 
 }  // namespace ggk::engine
