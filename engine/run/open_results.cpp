@@ -342,6 +342,50 @@ Hdf5File salvage(const Study& study, const RunOptions& options, const fs::path& 
   return std::move(*fresh);
 }
 
+// The units of the selected runs still to compute, configuration by
+// configuration (`complete`: each one's complete runs, ascending): a run not
+// complete whole; a complete run of a study grown by fit-level values with the
+// fits it lacks (store/run_extension.hpp), said in opened.info; the others skipped.
+void add_pending_units(const Study& study, const RunOptions& options,
+                       const std::vector<std::vector<std::int32_t>>& complete,
+                       const fs::path& output, OpenedResults& opened) {
+  const std::int32_t first = options.runs ? options.runs->first : 0;
+  const std::int32_t last = options.runs ? options.runs->last : study.job().runs;
+  std::int64_t extended = 0, new_fits = 0;
+  for (std::size_t c = 0; c < study.configurations.size(); ++c) {
+    const RunConfiguration& configuration = study.configurations[c];
+    const std::vector<SweepPoint> points = expand_points(configuration);
+    for (std::int32_t run = first; run < last; ++run) {
+      if (!std::binary_search(complete[c].begin(), complete[c].end(), run)) {
+        opened.pending.push_back({static_cast<std::int32_t>(c), run});
+        continue;
+      }
+      // A complete run of a study grown by fit-level values lacks their fits:
+      // only they are computed (store/run_extension.hpp).
+      std::vector<std::int32_t> lacking;
+      try {
+        lacking = lacking_points(opened.file, runs_location(configuration.job), run, points);
+      } catch (const std::runtime_error& e) {
+        throw UsageError("cannot resume " + output.string() + ": " + e.what());
+      }
+      if (lacking.empty()) {
+        ++opened.skipped;
+      } else {
+        ++extended;
+        new_fits += static_cast<std::int64_t>(lacking.size());
+        opened.pending.push_back({static_cast<std::int32_t>(c), run, std::move(lacking)});
+      }
+    }
+  }
+  if (extended > 0) {
+    opened.info.push_back(
+        "growing " + std::to_string(extended) + " complete runs of " + output.string() + " by " +
+        std::to_string(new_fits) +
+        " fits of the job's new values: only these are fitted (each run's samples and graph "
+        "are computed again, the same bits), the fits it holds are kept");
+  }
+}
+
 }  // namespace
 
 std::string ggk_version_text() {
@@ -477,42 +521,8 @@ OpenedResults open_results(const Study& study, const RunOptions& options, bool u
   OpenedResults opened{std::move(*target), std::move(stop_signals), std::move(*file), {}, 0,
                        std::move(notes),   std::move(info)};
   opened.file.set_gzip_level(job.output.compression);
-  const std::int32_t first = options.runs ? options.runs->first : 0;
-  const std::int32_t last = options.runs ? options.runs->last : job.runs;
   complete.resize(study.configurations.size());
-  std::int64_t extended = 0, new_fits = 0;
-  for (std::size_t c = 0; c < study.configurations.size(); ++c) {
-    const RunConfiguration& configuration = study.configurations[c];
-    const std::vector<SweepPoint> points = expand_points(configuration);
-    for (std::int32_t run = first; run < last; ++run) {
-      if (!std::binary_search(complete[c].begin(), complete[c].end(), run)) {
-        opened.pending.push_back({static_cast<std::int32_t>(c), run});
-        continue;
-      }
-      // A complete run of a study grown by fit-level values lacks their fits:
-      // only they are computed (store/run_extension.hpp).
-      std::vector<std::int32_t> lacking;
-      try {
-        lacking = lacking_points(opened.file, runs_location(configuration.job), run, points);
-      } catch (const std::runtime_error& e) {
-        throw UsageError("cannot resume " + output.string() + ": " + e.what());
-      }
-      if (lacking.empty()) {
-        ++opened.skipped;
-      } else {
-        ++extended;
-        new_fits += static_cast<std::int64_t>(lacking.size());
-        opened.pending.push_back({static_cast<std::int32_t>(c), run, std::move(lacking)});
-      }
-    }
-  }
-  if (extended > 0) {
-    opened.info.push_back(
-        "growing " + std::to_string(extended) + " complete runs of " + output.string() + " by " +
-        std::to_string(new_fits) +
-        " fits of the job's new values: only these are fitted (each run's samples and graph "
-        "are computed again, the same bits), the fits it holds are kept");
-  }
+  add_pending_units(study, options, complete, output, opened);
   return opened;
 }
 
