@@ -100,8 +100,9 @@ struct LargestDifference {
 
 class Comparison {
  public:
+  // jobs_differ: both files record the job's meaning and the two differ.
   Comparison(const Hdf5File& a, const Hdf5File& b, const std::string& task,
-             const DiffOptions& options, std::ostream& out)
+             const DiffOptions& options, bool jobs_differ, std::ostream& out)
       : a_(a),
         b_(b),
         task_group_("/" + task),
@@ -111,8 +112,7 @@ class Comparison {
         out_(out),
         meaning_recorded_(a.has_attribute("/", "job_resolved") &&
                           b.has_attribute("/", "job_resolved")),
-        by_value_(meaning_recorded_ && a.read_string_attribute("/", "job_resolved") !=
-                                           b.read_string_attribute("/", "job_resolved")) {}
+        by_value_(jobs_differ) {}
 
   // Compares the object at `path_a` in the first file with the one at `path_b`
   // in the second: the same path, but for a study's configuration groups, which
@@ -515,15 +515,27 @@ bool diff_results(const std::filesystem::path& a, const std::filesystem::path& b
                      " " + one_line(task_b, 60) +
                      " results: ggk diff compares two files of one task");
   }
-  Comparison comparison(file_a, file_b, task_a, options, out);
+  const auto damaged = [&](const std::runtime_error& e) {  // an object that does not read
+    return UsageError("cannot compare " + a.string() + " and " + b.string() + ": " +
+                      one_line(e.what()) +
+                      " (a damaged file: `ggk verify FILE` lists every damaged object)");
+  };
+  bool jobs_differ = false;
+  try {
+    jobs_differ = file_a.has_attribute("/", "job_resolved") &&
+                  file_b.has_attribute("/", "job_resolved") &&
+                  file_a.read_string_attribute("/", "job_resolved") !=
+                      file_b.read_string_attribute("/", "job_resolved");
+  } catch (const std::runtime_error& e) {
+    throw damaged(e);
+  }
+  Comparison comparison(file_a, file_b, task_a, options, jobs_differ, out);
   try {
     comparison.compare_object("/", "/");
   } catch (const UsageError&) {
     throw;
-  } catch (const std::runtime_error& e) {  // an object that does not read: damage
-    throw UsageError("cannot compare " + a.string() + " and " + b.string() + ": " +
-                     one_line(e.what()) +
-                     " (a damaged file: `ggk verify FILE` lists every damaged object)");
+  } catch (const std::runtime_error& e) {
+    throw damaged(e);
   }
   for (const std::string& note : comparison.notes()) out << "note: " << note << "\n";
   if (comparison.by_value()) {
