@@ -1,8 +1,10 @@
 #include "engine/job/study.hpp"
 
 #include <gtest/gtest.h>
+#include <toml++/toml.h>
 
 #include <cstdlib>
+#include <optional>
 #include <string>
 
 #include "engine/tasks/task_list.hpp"
@@ -232,6 +234,10 @@ TEST(Study, EveryShippedJobPrintedResolvedReadsBackAsTheSameStudy) {
   for (const auto& entry : std::filesystem::directory_iterator(jobs_dir())) {
     if (entry.path().extension() != ".toml") continue;
     SCOPED_TRACE(entry.path().filename().string());
+    // A task this build does not register (python_env in a build without Python).
+    const std::optional<std::string> task =
+        toml::parse_file(entry.path().string())["task"].value<std::string>();
+    if (!task || find_task(*task) == nullptr) continue;
     const Study study = load_study(entry.path(), task_tables(), no_output_check());
     const std::string printed = resolved_job_toml(study);
     const Study again = study_of(printed);
