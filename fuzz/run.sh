@@ -14,7 +14,9 @@ build=build-fuzz
 # Without Python: a fuzzed python_env job would import and call whatever its
 # `factory` names (os:_exit among them), and CPython's allocations at exit read
 # as leaks; the python_env table is tested in tests/python/test_python_env.py.
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+# A unity build, as CI's sanitizer build (.ci/run): 404 CPU-seconds against 577 for
+# the fuzzer and the libraries (3 min 28 s against 4 min 55 s on 2 cores).
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_UNITY_BUILD=ON \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DGGK_BUILD_FUZZ=ON -DGGK_SANITIZE=ON -DGGK_BUILD_TESTS=OFF -DGGK_BUILD_BENCH=OFF \
   -DGGK_WITH_MPI=OFF -DGGK_WITH_PYTHON=OFF >/dev/null

@@ -24,7 +24,7 @@ namespace {
 
 constexpr std::size_t kShownProblems = 20;
 
-std::string child(const std::string& group, const std::string& name) {
+std::string child_path(const std::string& group, const std::string& name) {
   return group == "/" ? "/" + name : group + "/" + name;
 }
 
@@ -75,7 +75,7 @@ struct Walk {
           return;
         case Hdf5File::ObjectKind::kGroup:
           for (const std::string& name : file.member_names(path)) {
-            visit(child(path, name), depth + 1);
+            visit(child_path(path, name), depth + 1);
           }
           return;
         case Hdf5File::ObjectKind::kOther:

@@ -9,7 +9,7 @@ namespace ggk::engine {
 
 namespace {
 
-constexpr int kMaxDepth = 32;
+constexpr int kMaxDigestDepth = 32;
 
 // FNV-1a, 64 bits (Fowler, Noll, Vo): a stable, well-known hash; the digest
 // finds damage, it does not resist an adversary.
@@ -43,7 +43,7 @@ bool left_out(const std::string& relative, const std::string& name) {
 // it, each object opened once through its open parent.
 void add_object(const Hdf5File::Object& object, const std::string& relative, int depth,
                 DigestScope scope, Fnv1a& hash) {
-  if (depth > kMaxDepth) throw std::runtime_error(object.path() + ": groups nested too deep");
+  if (depth > kMaxDigestDepth) throw std::runtime_error(object.path() + ": groups nested too deep");
   hash.add(relative);
   for (const std::string& name : object.attribute_names()) {  // sorted by name
     if (left_out(relative, name)) continue;

@@ -25,7 +25,7 @@ constexpr std::size_t kVariableLength = 0;  // string columns: variable-length U
 
 // The shortest text that reads back as exactly `value` ("2.5", "1e-06",
 // "10.000001"): distinct values always get distinct fit group names.
-std::string format_number(double value) {
+std::string shortest_text(double value) {
   char text[64];
   const auto result = std::to_chars(text, text + sizeof text, value);
   return std::string(text, result.ptr);
@@ -47,7 +47,7 @@ std::vector<T> integers_of(const NamedArray& array) {
                       value <= static_cast<double>(std::numeric_limits<T>::max());
     if (!fits || value != std::trunc(value)) {
       throw std::logic_error("array '" + array.name + "' is stored as integers but holds " +
-                             format_number(value));
+                             shortest_text(value));
     }
     integers.push_back(static_cast<T>(value));
   }
@@ -138,7 +138,7 @@ bool is_integer_metric(const RunRecord& record, const std::string& name) {
 std::int64_t whole_number(const std::string& name, double value) {
   if (!(std::trunc(value) == value && std::abs(value) < 9.0e15)) {
     throw std::logic_error("metric '" + name + "' is declared an integer but is " +
-                           format_number(value));
+                           shortest_text(value));
   }
   return static_cast<std::int64_t>(value);
 }
@@ -351,8 +351,8 @@ std::string fit_group_name(const SweepPoint& point) {
   std::snprintf(kernels, sizeof kernels, "k_%04d", point.kernels);
   // Fit-level study keys (study.hpp) follow, when the job has any.
   return std::string(kernel_type_name(point.basis)) + "/" + kernels + "_sigma" +
-         format_number(point.sigma) + "_" + std::string(solver_name(point.solver)) + "_lambda" +
-         format_number(point.lambda) +
+         shortest_text(point.sigma) + "_" + std::string(solver_name(point.solver)) + "_lambda" +
+         shortest_text(point.lambda) +
          (point.variant_label.empty() ? std::string() : "_" + point.variant_label);
 }
 

@@ -18,7 +18,7 @@ constexpr std::array<std::string_view, 8> kSomKeys = {"rows",           "cols",
 constexpr std::array<std::string_view, 2> kRadiusSchedules = {"exponential", "linear"};
 constexpr std::array<std::string_view, 2> kInitializations = {"principal_components",
                                                               "random_samples"};
-constexpr std::int64_t kInt32Max = std::numeric_limits<std::int32_t>::max();
+constexpr std::int64_t kSomSideMax = std::numeric_limits<std::int32_t>::max();
 // Evaluation episodes per fit: the paper's jobs use 10 (the noise of sensors and
 // wheels averaged out); 10^4 is a thousand times that, and beyond it a job is
 // one that never ends.
@@ -62,8 +62,8 @@ void read_som(const TomlTableReader& task_table, ContinuousProtocol& protocol) {
       }
     }
   } else {
-    som.rows = static_cast<std::int32_t>(table.integer("rows", {1, kInt32Max}, som.rows));
-    som.cols = static_cast<std::int32_t>(table.integer("cols", {1, kInt32Max}, som.cols));
+    som.rows = static_cast<std::int32_t>(table.integer("rows", {1, kSomSideMax}, som.rows));
+    som.cols = static_cast<std::int32_t>(table.integer("cols", {1, kSomSideMax}, som.cols));
     const std::int64_t units = std::int64_t{som.rows} * som.cols;
     if (units > readings) {
       const std::string detail =

@@ -38,7 +38,7 @@ namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using namespace test_support;
 
-constexpr const char* kSmallMap =
+constexpr const char* kScratchMap =
     "#######\n"
     "#.....#\n"
     "#.###.#\n"
@@ -54,7 +54,7 @@ class CliTest : public GgkBinaryTest {
     if (IsSkipped() || HasFatalFailure()) return;
     fs::create_directories(dir_ / "maps");
     fs::create_directories(dir_ / "out");
-    write("maps/four-rooms.txt", kSmallMap);
+    write("maps/four-rooms.txt", kScratchMap);
     write("plain.txt", "not a results file\n");
   }
 
@@ -64,14 +64,14 @@ class CliTest : public GgkBinaryTest {
   }
 };
 
-struct MalformedJob {
+struct MalformedJobCase {
   std::string what;
   std::string text;
   std::string place;  // "bad.toml:LINE:"
   std::string key;    // how the message names the key (or the error, for syntax errors)
 };
 
-std::vector<MalformedJob> malformed_jobs() {
+std::vector<MalformedJobCase> malformed_job_cases() {
   const std::string h = kBadJobHeader;
   return {
       {"syntax error", h + "[lspi]\ngamma = 0.9 0.8\n", "bad.toml:11:", "TOML syntax error"},
@@ -121,7 +121,7 @@ std::vector<MalformedJob> malformed_jobs() {
 }
 
 TEST_F(CliTest, MalformedJobsExitWithStatus2AndWriteNothing) {
-  std::vector<MalformedJob> cases = malformed_jobs();
+  std::vector<MalformedJobCase> cases = malformed_job_cases();
   if (::geteuid() != 0) {  // root writes anywhere
     fs::create_directories(dir_ / "locked");
     fs::permissions(dir_ / "locked", fs::perms::owner_read | fs::perms::owner_exec);
@@ -130,7 +130,7 @@ TEST_F(CliTest, MalformedJobsExitWithStatus2AndWriteNothing) {
                      "bad.toml:9:", "[output] file"});
   }
   ASSERT_GE(cases.size(), 20u);
-  for (const MalformedJob& job : cases) {
+  for (const MalformedJobCase& job : cases) {
     SCOPED_TRACE(job.what);
     const fs::path path = write("bad.toml", job.text);
     for (const char* command : {"validate", "run"}) {

@@ -285,12 +285,12 @@ TEST_P(ActionBlockSystemTest, UpdatesKeepTheExactZerosOfTruncatedKernels) {
 }
 
 // Readable test names ("brm"), not gtest's byte dumps.
-std::string solver_case_name(const testing::TestParamInfo<LspiSolver>& param) {
+std::string solver_param_name(const testing::TestParamInfo<LspiSolver>& param) {
   return to_string(param.param);
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, ActionBlockSystemTest,
-                         testing::Values(LspiSolver::brm, LspiSolver::lstdq), solver_case_name);
+                         testing::Values(LspiSolver::brm, LspiSolver::lstdq), solver_param_name);
 
 TEST(ActionBlockSystem, NamesTheFirstRowOutsideItsBlock) {
   SparseRowMatrix features(4, 4);  // 2 states x 2 actions, p = 2

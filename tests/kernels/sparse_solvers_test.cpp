@@ -10,7 +10,7 @@
 namespace ggk::kernels {
 namespace {
 
-SparseColMatrix random_spd(int n, std::uint64_t seed) {
+SparseColMatrix random_sparse_spd(int n, std::uint64_t seed) {
   RandomStream rng(seed, 0, 0);
   Eigen::MatrixXd m(n, n);
   for (int i = 0; i < n; ++i)
@@ -20,7 +20,7 @@ SparseColMatrix random_spd(int n, std::uint64_t seed) {
 }
 
 TEST(SymmetricSolver, SolvesPositiveDefiniteSystems) {
-  const SparseColMatrix a = random_spd(30, 1);
+  const SparseColMatrix a = random_sparse_spd(30, 1);
   const Eigen::VectorXd expected = Eigen::VectorXd::LinSpaced(30, -1, 2);
   const Eigen::VectorXd b = a * expected;
   SymmetricSolver solver;
@@ -34,7 +34,7 @@ TEST(SymmetricSolver, SolvesPositiveDefiniteSystems) {
 }
 
 TEST(SymmetricSolver, ReusesAnalysisWhilePatternHolds) {
-  const SparseColMatrix a = random_spd(20, 2);
+  const SparseColMatrix a = random_sparse_spd(20, 2);
   const SparseColMatrix a2 = 2.0 * a;
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(20);
   SymmetricSolver solver;
@@ -43,7 +43,7 @@ TEST(SymmetricSolver, ReusesAnalysisWhilePatternHolds) {
   const SolveReport second = solver.solve(a2, b, x2);
   EXPECT_TRUE(second.reused_analysis);
   EXPECT_LT((2.0 * x2 - x1).norm(), 1e-10);
-  const SparseColMatrix other = random_spd(20, 3);
+  const SparseColMatrix other = random_sparse_spd(20, 3);
   EXPECT_FALSE(solver.solve(other, b, x2).reused_analysis);
 }
 

@@ -26,13 +26,13 @@ constexpr std::array<std::string_view, 11> kArmKeys = {
     "object", "series", "steps_per_series", "test_max_steps", "obstacles"};
 constexpr std::string_view kGridStepKey = "grid_step_degrees";
 constexpr std::array<std::string_view, 2> kObjectKeys = {"center", "radius"};
-constexpr std::array<std::string_view, 5> kObstacleKeys = {"kind", "min", "max", "center",
-                                                           "radius"};
-constexpr std::array<std::string_view, 3> kRectangleKeys = {"kind", "min", "max"};
-constexpr std::array<std::string_view, 3> kDiscKeys = {"kind", "center", "radius"};
+constexpr std::array<std::string_view, 5> kArmObstacleKeys = {"kind", "min", "max", "center",
+                                                              "radius"};
+constexpr std::array<std::string_view, 3> kArmRectangleKeys = {"kind", "min", "max"};
+constexpr std::array<std::string_view, 3> kArmDiscKeys = {"kind", "center", "radius"};
 constexpr std::array<ObstacleKind, 2> kObstacleKinds = {{
-    {"rectangle", kRectangleKeys, "kind, min, max"},
-    {"disc", kDiscKeys, "kind, center, radius"},
+    {"rectangle", kArmRectangleKeys, "kind, min, max"},
+    {"disc", kArmDiscKeys, "kind, center, radius"},
 }};
 
 // The joint grid step in tenths of a degree: grid_step_degrees, a whole number
@@ -103,8 +103,8 @@ std::array<std::int32_t, 2> limits(const TomlTableReader& table, std::string_vie
   return range;
 }
 
-arm::Obstacle obstacle(const TomlTableReader& table) {
-  const std::string kind(obstacle_kind(table, kObstacleKinds, kObstacleKeys).name);
+arm::Obstacle arm_obstacle(const TomlTableReader& table) {
+  const std::string kind(obstacle_kind(table, kObstacleKinds, kArmObstacleKeys).name);
   if (kind == "rectangle") {
     const arm::Point2 min = point(table, "min");
     const arm::Point2 max = point(table, "max");
@@ -155,8 +155,10 @@ arm::ArmConfig parse_arm_table(const TomlTableReader& job) {
   config.start_A = {static_cast<double>(start[0]), static_cast<double>(start[1])};
 
   const std::vector<TomlTableReader> obstacles =
-      obstacle_tables(*table, kObstacleKinds, kObstacleKeys);
-  for (const TomlTableReader& reader : obstacles) geometry.obstacles.push_back(obstacle(reader));
+      obstacle_tables(*table, kObstacleKinds, kArmObstacleKeys);
+  for (const TomlTableReader& reader : obstacles) {
+    geometry.obstacles.push_back(arm_obstacle(reader));
+  }
 
   const std::optional<TomlTableReader> object = table->subtable("object", kObjectKeys);
   if (!object) table->fail("object", "required table [arm.object] is missing");

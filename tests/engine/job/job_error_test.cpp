@@ -17,7 +17,7 @@ namespace {
 constexpr std::size_t kMaxMessageBytes = 600;
 
 // The JobError message of `text`, read as jobs/hostile.toml without output checks.
-std::string error_of(const std::string& text) {
+std::string hostile_job_error(const std::string& text) {
   JobLoadOptions options;
   options.check_output = false;
   try {
@@ -68,7 +68,7 @@ TEST(JobName, ANameOfAHundredCharactersIsAccepted) {
 }
 
 TEST(JobName, ANameTooLongForAFileNameIsRefused) {
-  const std::string message = error_of(job_named(std::string(300, 'n')));
+  const std::string message = hostile_job_error(job_named(std::string(300, 'n')));
   EXPECT_NE(message.find("jobs/hostile.toml:1:1: name: expected at most 100 characters"),
             std::string::npos)
       << message;
@@ -77,7 +77,7 @@ TEST(JobName, ANameTooLongForAFileNameIsRefused) {
 }
 
 TEST(JobName, AnInvalidNameIsEchoedShortened) {
-  const std::string message = error_of(job_named(std::string(99, 'n') + "/"));
+  const std::string message = hostile_job_error(job_named(std::string(99, 'n') + "/"));
   EXPECT_NE(message.find("expected letters, digits"), std::string::npos) << message;
   EXPECT_NE(message.find("\u2026(100 characters)"), std::string::npos) << message;
 }

@@ -28,7 +28,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-constexpr const char* kSmallMap =
+constexpr const char* kMapFileText =
     "#######\n"
     "#.....#\n"
     "#.###.#\n"
@@ -71,7 +71,7 @@ class JobInputTest : public ::testing::Test {
     std::string pattern = (fs::temp_directory_path() / "ggk-job-input-XXXXXX").string();
     ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
     dir_ = pattern;
-    write("small.txt", kSmallMap);
+    write("small.txt", kMapFileText);
   }
   void TearDown() override {
     std::error_code ignored;
@@ -128,13 +128,13 @@ TEST_F(JobInputTest, AJobCopiedElsewhereFindsTheProjectsMaps) {
   expect_contains(missing, "maps/no-such-map.txt in the project's jobs/ folder");
   // Beside the job first: a map of its own under the same name wins.
   fs::create_directories(dir_ / "maps");
-  write("maps/four-rooms.txt", kSmallMap);
+  write("maps/four-rooms.txt", kMapFileText);
   JobLoadOptions options;
   options.check_output = false;
   const JobSpec job = load_job_file(write("job.toml", job_with_map_file("maps/four-rooms.txt")),
                                     task_tables(), options);
   ASSERT_EQ(job.inputs.size(), 1u);
-  EXPECT_EQ(job.inputs[0].text, kSmallMap);
+  EXPECT_EQ(job.inputs[0].text, kMapFileText);
 }
 
 TEST_F(JobInputTest, AFifoAsMapFileIsRefusedWithoutBlocking) {

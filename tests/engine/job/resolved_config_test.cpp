@@ -10,7 +10,7 @@
 namespace ggk::engine {
 namespace {
 
-std::filesystem::path jobs_dir() {
+std::filesystem::path shipped_jobs_dir() {
   const char* source = std::getenv("GGK_SOURCE_DIR");
   return std::filesystem::path(source != nullptr ? source : ".") / "jobs";
 }
@@ -18,7 +18,7 @@ std::filesystem::path jobs_dir() {
 ResolvedConfig resolved_of(const std::string& text) {
   JobLoadOptions options;
   options.check_output = false;
-  return parse_job(text, jobs_dir() / "x.toml", task_tables(), options).resolved;
+  return parse_job(text, shipped_jobs_dir() / "x.toml", task_tables(), options).resolved;
 }
 
 const std::string kHead =
@@ -98,7 +98,7 @@ TEST(ResolvedConfig, UnreadKeysAreKeptAsWritten) {
   // typed getter reads (here: the whole arm table's nested arrays).
   JobLoadOptions options;
   options.check_output = false;
-  const JobSpec arm = load_job_file(jobs_dir() / "ci-arm.toml", task_tables(), options);
+  const JobSpec arm = load_job_file(shipped_jobs_dir() / "ci-arm.toml", task_tables(), options);
   EXPECT_TRUE(arm.resolved.contains("arm.links"));
   EXPECT_TRUE(arm.resolved.contains("name"));
   EXPECT_GT(arm.resolved.size(), 20u);

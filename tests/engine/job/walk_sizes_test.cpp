@@ -15,12 +15,12 @@
 namespace ggk::engine {
 namespace {
 
-constexpr std::array<std::string_view, 2> kKeys = {"series", "steps_per_series"};
+constexpr std::array<std::string_view, 2> kWalkKeys = {"series", "steps_per_series"};
 
 // The JobError message of reading `text` as the table [walk], or "ok".
 std::string outcome(const std::string& text, WalkIds ids, WalkSizes* sizes = nullptr) {
   const toml::table table = toml::parse(text);
-  const TomlTableReader reader(table, "walk", "w.toml", kKeys);
+  const TomlTableReader reader(table, "walk", "w.toml", kWalkKeys);
   try {
     const WalkSizes read = read_walk_sizes(reader, {3, 7}, ids);
     if (sizes != nullptr) *sizes = read;

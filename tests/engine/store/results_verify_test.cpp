@@ -28,7 +28,8 @@ namespace {
 namespace fs = std::filesystem;
 using namespace test_support;
 
-constexpr const char* kWeights = "/maze/run_001/fits/ggk/k_0008_sigma3_brm_lambda1e-06/weights";
+constexpr const char* kWeightsDataset =
+    "/maze/run_001/fits/ggk/k_0008_sigma3_brm_lambda1e-06/weights";
 
 class ResultsVerifyTest : public JobRunnerTest {
  protected:
@@ -57,21 +58,21 @@ TEST_F(ResultsVerifyTest, AWholeFileReadsBack) {
 }
 
 TEST_F(ResultsVerifyTest, AFlippedByteInAChunkIsFoundAndNamed) {
-  const ChunkPlace chunk = first_chunk(dir_ / "out.h5", kWeights);
-  ASSERT_NE(chunk.address, HADDR_UNDEF) << "no chunk found for " << kWeights;
+  const ChunkPlace chunk = first_chunk(dir_ / "out.h5", kWeightsDataset);
+  ASSERT_NE(chunk.address, HADDR_UNDEF) << "no chunk found for " << kWeightsDataset;
   ASSERT_GT(chunk.size, 4u);
   flip_byte(dir_ / "out.h5", chunk.address + chunk.size / 2);
 
   const auto [whole, printed] = verify();
   EXPECT_FALSE(whole) << printed;
   EXPECT_TRUE(contains(printed, "DAMAGED: 1 objects do not read:"));
-  EXPECT_TRUE(contains(printed, std::string("  ") + kWeights + ": "));
+  EXPECT_TRUE(contains(printed, std::string("  ") + kWeightsDataset + ": "));
   EXPECT_TRUE(contains(printed, "--resume"));
 
   const Hdf5File file = Hdf5File::open_read_only(dir_ / "out.h5");
   const std::optional<std::string> damage = verify_run(file, "maze", 1);
   ASSERT_TRUE(damage.has_value());
-  EXPECT_TRUE(contains(*damage, kWeights));
+  EXPECT_TRUE(contains(*damage, kWeightsDataset));
   EXPECT_EQ(verify_run(file, "maze", 0), std::nullopt);
   EXPECT_EQ(verify_run(file, "maze", 2), std::nullopt);
 }

@@ -47,7 +47,7 @@ RunRecord run_with_threads(const ContinuousEnvironment& env, const ContinuousPro
   return run_continuous_protocol(env, protocol, job, 0, points);
 }
 
-const NamedArray& array_named(const RunRecord& record, const std::string& name) {
+const NamedArray& record_array(const RunRecord& record, const std::string& name) {
   for (const NamedArray& array : record.arrays) {
     if (array.name == name) return array;
   }
@@ -67,8 +67,8 @@ TEST(ContinuousProtocol, ThreeBasesUnscaledSamplesAndTheSameForOneAndTwoThreads)
     EXPECT_EQ(one.samples.observations(i, 1), 2.0 * one.samples.observations(i, 0));
   }
   EXPECT_EQ(one.action_names, env.action_names);
-  EXPECT_EQ(array_named(one, "observation_scale").values, protocol.scale);
-  EXPECT_EQ(array_named(one, "samples/bumps").values.size(), one.samples.actions.size());
+  EXPECT_EQ(record_array(one, "observation_scale").values, protocol.scale);
+  EXPECT_EQ(record_array(one, "samples/bumps").values.size(), one.samples.actions.size());
   // The SOM sees x / 10 and 2 x / 20: its prototypes lie on the diagonal.
   for (Eigen::Index u = 0; u < one.node_states.rows(); ++u) {
     EXPECT_NEAR(one.node_states(u, 0), one.node_states(u, 1), 1e-9);

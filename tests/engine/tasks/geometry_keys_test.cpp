@@ -27,7 +27,7 @@ constexpr std::array<ObstacleKind, 2> kKinds = {
 
 // The JobError message of `read` on the table `text` ([t] of g.toml), or "ok".
 template <class Read>
-std::string outcome(const std::string& text, Read read) {
+std::string read_outcome(const std::string& text, Read read) {
   const toml::table table = toml::parse(text);
   try {
     read(TomlTableReader(table, "t", "g.toml", kKeys));
@@ -48,12 +48,13 @@ TEST(GeometryKeys, PointsAndSizedArrays) {
     numbers_of<2>(r, "size", sized_array(r, "size", 2, "numbers [w, h]"), {"w", "h"},
                   NumberRange::above(0.0), "a length > 0.0");
   };
-  EXPECT_NE(outcome("size = [3, -1]\n", read_size).find("[t] size: expected a length > 0.0 for h"),
-            std::string::npos);
-  EXPECT_NE(outcome("size = [3]\n", read_size)
+  EXPECT_NE(
+      read_outcome("size = [3, -1]\n", read_size).find("[t] size: expected a length > 0.0 for h"),
+      std::string::npos);
+  EXPECT_NE(read_outcome("size = [3]\n", read_size)
                 .find("expected an array of 2 numbers [w, h], got an array of 1 element"),
             std::string::npos);
-  EXPECT_NE(outcome("", read_size).find("size: required key is missing"), std::string::npos);
+  EXPECT_NE(read_outcome("", read_size).find("size: required key is missing"), std::string::npos);
 }
 
 TEST(GeometryKeys, ObstacleTablesAndTheirKinds) {
@@ -62,17 +63,17 @@ TEST(GeometryKeys, ObstacleTablesAndTheirKinds) {
       obstacle_kind(obstacle, kKinds, kObstacleKeys);
     }
   };
-  EXPECT_EQ(outcome("[[obstacles]]\nkind = \"box\"\nmin = [0, 0]\n", read_all), "ok");
-  EXPECT_NE(outcome("obstacles = 1\n", read_all)
+  EXPECT_EQ(read_outcome("[[obstacles]]\nkind = \"box\"\nmin = [0, 0]\n", read_all), "ok");
+  EXPECT_NE(read_outcome("obstacles = 1\n", read_all)
                 .find("expected an array of tables ([[t.obstacles]]), got 1"),
             std::string::npos);
-  EXPECT_NE(outcome("obstacles = [1]\n", read_all)
+  EXPECT_NE(read_outcome("obstacles = [1]\n", read_all)
                 .find("expected a table with kind = \"box\" or \"disc\", got 1"),
             std::string::npos);
-  EXPECT_NE(outcome("[[obstacles]]\nkind = \"disc\"\nmin = [0, 0]\n", read_all)
+  EXPECT_NE(read_outcome("[[obstacles]]\nkind = \"disc\"\nmin = [0, 0]\n", read_all)
                 .find("a disc has no key 'min' (its keys: kind, center, radius)"),
             std::string::npos);
-  EXPECT_NE(outcome("[[obstacles]]\nkind = \"dsic\"\n", read_all).find("did you mean 'disc'"),
+  EXPECT_NE(read_outcome("[[obstacles]]\nkind = \"dsic\"\n", read_all).find("did you mean 'disc'"),
             std::string::npos);
 }
 

@@ -18,8 +18,6 @@
 namespace ggk::sims::khepera {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 TEST(KheperaMotion, ArcsMatchFineNumericalIntegration) {
   const double b = 5.2;
   const Pose start{10.0, -3.0, 2.5};
@@ -47,13 +45,13 @@ TEST(KheperaMotion, ArcsMatchFineNumericalIntegration) {
   EXPECT_NEAR(std::hypot(ahead.x - start.x, ahead.y - start.y), 1.5, 1e-12);
   EXPECT_EQ(ahead.heading, start.heading);
   const Pose left = drive(start, wheel_command(motion, b, kRotateLeft), b);
-  EXPECT_NEAR(left.heading - start.heading, 15.0 * kPi / 180.0, 1e-12);
+  EXPECT_NEAR(left.heading - start.heading, 15.0 * std::numbers::pi / 180.0, 1e-12);
   EXPECT_NEAR(left.x, start.x, 1e-12);
   EXPECT_NEAR(left.y, start.y, 1e-12);
   const Pose right = drive(start, wheel_command(motion, b, kRotateRight), b);
-  EXPECT_NEAR(right.heading - start.heading, -15.0 * kPi / 180.0, 1e-12);
-  EXPECT_NEAR(wrap_angle(kPi), -kPi, 0.0);
-  EXPECT_NEAR(wrap_angle(3.0 * kPi + 0.25), -kPi + 0.25, 1e-12);
+  EXPECT_NEAR(right.heading - start.heading, -15.0 * std::numbers::pi / 180.0, 1e-12);
+  EXPECT_NEAR(wrap_angle(std::numbers::pi), -std::numbers::pi, 0.0);
+  EXPECT_NEAR(wrap_angle(3.0 * std::numbers::pi + 0.25), -std::numbers::pi + 0.25, 1e-12);
 }
 }  // namespace
 }  // namespace ggk::sims::khepera

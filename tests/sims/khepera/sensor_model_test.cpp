@@ -22,8 +22,6 @@ namespace {
 
 using kernels::RandomStream;
 
-constexpr double kPi = std::numbers::pi;
-
 using namespace test_helpers;
 
 TEST(KheperaSensorModel, ResponseFunctionMatchesTheFormula) {
@@ -35,7 +33,7 @@ TEST(KheperaSensorModel, ResponseFunctionMatchesTheFormula) {
   EXPECT_EQ(f(kNoHit), 0.0);
   // A flat wall faced squarely: the side rays' excess cancels exactly.
   const double d = 4.0;
-  const double oblique = d / std::cos(15.0 * kPi / 180.0);
+  const double oblique = d / std::cos(15.0 * std::numbers::pi / 180.0);
   EXPECT_NEAR(f.reading(oblique, d, oblique), hand_f(d), 1e-9);
   // Side rays alone add; a centre ray alone is over-corrected.
   EXPECT_NEAR(f.reading(3.0, kNoHit, kNoHit), hand_f(3.0), 1e-12);

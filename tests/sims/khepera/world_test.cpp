@@ -20,8 +20,6 @@ namespace {
 
 using kernels::RandomStream;
 
-constexpr double kPi = std::numbers::pi;
-
 TEST(KheperaWorld, RayDistancesToEachShape) {
   Arena arena;
   arena.walled = false;
@@ -86,7 +84,7 @@ TEST(KheperaWorld, GridGivesTheSameAnswersAsTestingEverything) {
   std::int32_t overlaps = 0;
   for (int i = 0; i < 20000; ++i) {
     const Point2 origin{random.uniform(-1.0, 81.0), random.uniform(-1.0, 81.0)};
-    const double angle = random.uniform(-kPi, kPi);
+    const double angle = random.uniform(-std::numbers::pi, std::numbers::pi);
     const Point2 direction{std::cos(angle), std::sin(angle)};
     const double range = random.uniform(0.0, 10.0);
     const double d = fine.ray_distance(origin, direction, range);

@@ -62,7 +62,7 @@ std::string without_obstacles(const std::string& job) {
   return job.substr(0, job.find("[[arm.obstacles]]"));
 }
 
-std::string error_of(const std::string& text) {
+std::string arm_job_error(const std::string& text) {
   try {
     parse_job(text, "bad.toml", task_tables(), no_output_check());
   } catch (const JobError& error) {
@@ -297,7 +297,7 @@ std::vector<MalformedArm> malformed_arms() {
 
 TEST(ArmTable, RejectsMalformedTables) {
   for (const MalformedArm& job : malformed_arms()) {
-    const std::string message = error_of(job.text);
+    const std::string message = arm_job_error(job.text);
     for (const std::string& part : job.expected) {
       EXPECT_NE(message.find(part), std::string::npos)
           << "case '" << job.what << "': the message\n  " << message << "\nlacks\n  " << part;

@@ -55,7 +55,7 @@ const KheperaTaskConfig& khepera_config(const JobSpec& job) {
   return task_config_as<KheperaTaskConfig>(job);
 }
 
-std::string error_of(const std::string& text, const fs::path& source = "bad.toml") {
+std::string khepera_job_error(const std::string& text, const fs::path& source = "bad.toml") {
   try {
     parse_job(text, source, task_tables(), no_output_check());
   } catch (const JobError& error) {
@@ -438,7 +438,7 @@ TEST(KheperaTable, RejectsMalformedTables) {
   const std::vector<MalformedKhepera> cases = malformed_tables();
   EXPECT_GE(cases.size(), 15u);
   for (const MalformedKhepera& job : cases) {
-    const std::string message = error_of(job.text);
+    const std::string message = khepera_job_error(job.text);
     for (const std::string& part : job.expected) {
       EXPECT_NE(message.find(part), std::string::npos)
           << "case '" << job.what << "': the message\n  " << message << "\nlacks\n  " << part;
@@ -513,7 +513,7 @@ TEST_F(KheperaArenaFile, ErrorsNameTheArenaFileItsLineAndTheJob) {
   };
   for (const Case& c : cases) {
     write("arenas/bad.toml", c.arena);
-    const std::string message = error_of(job_reading_bad, dir_ / "job.toml");
+    const std::string message = khepera_job_error(job_reading_bad, dir_ / "job.toml");
     EXPECT_EQ(message.rfind(arena_path + c.expected, 0), 0u)
         << "case '" << c.what << "': " << message;
     EXPECT_NE(message.find("(the arena_file of '" + job_path + "')"), std::string::npos)
@@ -523,13 +523,13 @@ TEST_F(KheperaArenaFile, ErrorsNameTheArenaFileItsLineAndTheJob) {
 
 TEST_F(KheperaArenaFile, MissingFilesAreReportedAtTheKey) {
   const std::string job = with_arena_file("arenas/missing.toml");
-  EXPECT_NE(error_of(job, dir_ / "job.toml")
+  EXPECT_NE(khepera_job_error(job, dir_ / "job.toml")
                 .find(":12:1: [khepera] arena_file: arena file 'arenas/missing.toml' (" +
                       (dir_ / "arenas" / "missing.toml").string() + ") does not exist"),
             std::string::npos);
-  EXPECT_NE(error_of(with_arena_file("arenas"), dir_ / "job.toml").find("is a directory"),
+  EXPECT_NE(khepera_job_error(with_arena_file("arenas"), dir_ / "job.toml").find("is a directory"),
             std::string::npos);
-  EXPECT_NE(error_of(with_arena_file(""), dir_ / "job.toml")
+  EXPECT_NE(khepera_job_error(with_arena_file(""), dir_ / "job.toml")
                 .find(":12:1: [khepera] arena_file: expected a file name, got \"\""),
             std::string::npos);
 }

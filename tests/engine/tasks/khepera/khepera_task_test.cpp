@@ -30,7 +30,7 @@ namespace {
 namespace khepera = sims::khepera;
 using namespace test_support;
 
-const KheperaTaskConfig& khepera_config(const JobSpec& job) {
+const KheperaTaskConfig& khepera_task_config(const JobSpec& job) {
   return task_config_as<KheperaTaskConfig>(job);
 }
 
@@ -38,7 +38,7 @@ std::vector<double> values_of(const Eigen::VectorXd& v) {
   return {v.data(), v.data() + v.size()};
 }
 
-RunRecord run_with_threads(const JobSpec& job, std::int32_t run, std::size_t threads) {
+RunRecord khepera_run_with_threads(const JobSpec& job, std::int32_t run, std::size_t threads) {
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   return compute_run(job, run);
 }
@@ -49,7 +49,7 @@ TEST(KheperaJob, DiagnosticsAndArenaMatchTheStoredRun) {
   const JobSpec job = parse_job(std::string(kKheperaJob) + "[basis]\nscheme = \"copy\"\n",
                                 "tiny.toml", task_tables(), no_output_check());
   const RunRecord record = compute_run(job, 0);
-  const KheperaTaskConfig& config = khepera_config(job);
+  const KheperaTaskConfig& config = khepera_task_config(job);
   const khepera::Khepera robot(config.simulator);
 
   std::vector<std::uint8_t> occupied(static_cast<std::size_t>(record.graph.num_nodes), 0);
@@ -110,8 +110,8 @@ TEST(KheperaJob, DiagnosticsAndArenaMatchTheStoredRun) {
 TEST(KheperaJob, TinyRunFitsAndIsIdenticalForOneAndTwoThreads) {
   const JobSpec job = parse_job(std::string(kKheperaJob) + "[basis]\nscheme = \"copy\"\n",
                                 "tiny.toml", task_tables(), no_output_check());
-  const RunRecord one = run_with_threads(job, 0, 1);
-  const RunRecord two = run_with_threads(job, 0, 2);
+  const RunRecord one = khepera_run_with_threads(job, 0, 1);
+  const RunRecord two = khepera_run_with_threads(job, 0, 2);
 
   ASSERT_EQ(one.fits.size(), 2u);  // ggk and ogk, 5 kernels
   EXPECT_EQ(one.samples.actions.size(), 500u);

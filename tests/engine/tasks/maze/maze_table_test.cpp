@@ -14,7 +14,7 @@ namespace ggk::engine {
 namespace {
 
 // The JobError message of a job with the inline map `map`, or "ok".
-std::string outcome(const std::string& map) {
+std::string map_outcome(const std::string& map) {
   const std::string text =
       "name = \"m\"\ntask = \"maze\"\nruns = 1\nseed = 0\n[sweep]\nkernels = [4]\n"
       "sigma = [2.0]\n[maze]\nmap = \"\"\"\n" +
@@ -30,7 +30,7 @@ std::string outcome(const std::string& map) {
 }
 
 TEST(MazeTable, AGoalWalledOffFromEveryFreeCellIsRefused) {
-  const std::string message = outcome(
+  const std::string message = map_outcome(
       "#######\n"
       "#...#G#\n"
       "#...###\n"
@@ -40,14 +40,14 @@ TEST(MazeTable, AGoalWalledOffFromEveryFreeCellIsRefused) {
       << message;
   EXPECT_NE(message.find("success 0"), std::string::npos) << message;
   // Goals next to each other, all walled off together.
-  EXPECT_NE(outcome("#####\n#GG##\n###.#\n#####\n").find("no free cell"), std::string::npos);
+  EXPECT_NE(map_outcome("#####\n#GG##\n###.#\n#####\n").find("no free cell"), std::string::npos);
 }
 
 TEST(MazeTable, AGoalSomeFreeCellReachesIsAccepted) {
   // One room walled off from the goal, the other not.
-  EXPECT_EQ(outcome("#######\n#.#..G#\n#######\n"), "ok");
+  EXPECT_EQ(map_outcome("#######\n#.#..G#\n#######\n"), "ok");
   // A goal reached only through another goal.
-  EXPECT_EQ(outcome("#####\n#.GG#\n#####\n"), "ok");
+  EXPECT_EQ(map_outcome("#####\n#.GG#\n#####\n"), "ok");
 }
 
 // Greedy tests bounded by what a person would run (jobs/README.md): 2^31 - 1
