@@ -5,7 +5,6 @@
 
 #include "engine/run/isolated_reading.hpp"
 #include "engine/store/results_info.hpp"
-#include "engine/tasks/task_list.hpp"
 
 namespace ggk::engine {
 
@@ -17,7 +16,7 @@ int info_command(const CommandLine& line) {
   options.columns = info_column_list(line.info_columns);
   if (!line.info_paired.empty()) options.paired = parse_paired_option(line.info_paired);
   return read_isolated({line.info_path}, [&] {
-    print_results_info(line.info_path, out, options, metric_kind);
+    print_results_info(line.info_path, out, options);
     return 0;
   });
 }

@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -29,10 +30,8 @@ AdaptiveState state_of_file(const Hdf5File& file, const Study& study,
   std::erase_if(contents.fits, [&](const FitRow& fit) {
     return outstanding.count({fit.configuration, static_cast<std::int32_t>(fit.run)}) > 0;
   });
-  const std::string task = study.job().task;
   return adaptive_state(contents, *study.job().adaptive,
-                        static_cast<std::int32_t>(study.configurations.size()), study.job().runs,
-                        [&task](std::string_view metric) { return metric_kind(task, metric); });
+                        static_cast<std::int32_t>(study.configurations.size()), study.job().runs);
 }
 
 std::string stage_text(const AdaptiveState& state) {
@@ -46,14 +45,23 @@ std::string stage_text(const AdaptiveState& state) {
 void check_adaptive_metrics(const Study& study) {
   const std::optional<AdaptiveRule>& rule = study.job().adaptive;
   if (!rule) return;
+  const TaskDefinition* task = find_task(study.job().task);
+  const std::vector<MetricSpec> specs = task != nullptr && task->metric_specs != nullptr
+                                            ? task->metric_specs(study.job())
+                                            : std::vector<MetricSpec>{};
   for (const std::string& metric : rule->metrics) {
-    if (!metric_range(*rule, metric, metric_kind(study.job().task, metric))) {
-      throw UsageError("[adaptive] metrics: '" + metric + "' is no rate or fraction of task '" +
-                       study.job().task +
-                       "', so its range is unknown: give it as [adaptive.range] " + metric +
-                       " = [LOW, HIGH] (the bounds the task's rewards and episode length put on "
-                       "it)");
-    }
+    if (metric_range(*rule, metric, declared_kind(specs, metric))) continue;
+    // The rule's ranges are its own (a decision never follows a range the file's
+    // configurations declare): the task's declaration is only suggested.
+    const MetricSpec* spec = find_metric_spec(specs, metric);
+    const bool bounded = spec != nullptr && std::isfinite(spec->low) && std::isfinite(spec->high);
+    throw UsageError(
+        "[adaptive] metrics: '" + metric + "' is no rate or fraction of task '" + study.job().task +
+        "', so its range is unknown: give it as [adaptive.range] " + metric + " = [LOW, HIGH] (" +
+        (bounded ? "the task declares [" + as_text(TableValue(spec->low)) + ", " +
+                       as_text(TableValue(spec->high)) + "] for this job"
+                 : std::string("the bounds the task's rewards and episode length put on it")) +
+        ")");
   }
 }
 

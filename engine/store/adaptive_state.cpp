@@ -104,15 +104,14 @@ std::int64_t AdaptiveState::open_cells() const {
 std::optional<MetricRange> metric_range(const AdaptiveRule& rule, std::string_view metric,
                                         MetricKind kind) {
   if (std::optional<MetricRange> declared = rule.declared_range(metric)) return declared;
-  if (kind == MetricKind::kRate || kind == MetricKind::kFraction) {
+  if (kind == MetricKind::kIndicator || kind == MetricKind::kFraction) {
     return MetricRange{std::string(metric), 0.0, 1.0};
   }
   return std::nullopt;
 }
 
 AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule& rule,
-                             std::int32_t configurations, std::int32_t max_runs,
-                             const std::function<MetricKind(std::string_view)>& kind_of) {
+                             std::int32_t configurations, std::int32_t max_runs) {
   AdaptiveState state;
   state.runs_wanted.assign(static_cast<std::size_t>(configurations),
                            std::min(rule.batch, max_runs));
@@ -131,7 +130,9 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
       throw UsageError("[adaptive] metrics: the task reports no metric '" + metric +
                        "' (its metrics: " + metric_list(contents.metric_names) + ")");
     }
-    std::optional<MetricRange> range = metric_range(rule, metric, kind_of(metric));
+    const MetricKind kind =
+        contents.metric_specs[static_cast<std::size_t>(at - contents.metric_names.begin())].kind;
+    std::optional<MetricRange> range = metric_range(rule, metric, kind);
     if (!range && rule.method == AdaptiveMethod::kAsymptotic) {  // any value goes
       range = MetricRange{metric, -std::numeric_limits<double>::infinity(),
                           std::numeric_limits<double>::infinity()};

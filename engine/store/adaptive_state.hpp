@@ -78,11 +78,10 @@ std::optional<MetricRange> metric_range(const AdaptiveRule& rule, std::string_vi
                                         MetricKind kind);
 
 // The state of the study with `configurations` run configurations, at most
-// `max_runs` runs each, whose file holds `contents`. `kind_of`: a metric's kind
-// in the file's task. Throws UsageError when a compared metric is no column of
+// `max_runs` runs each, whose file holds `contents` (a metric's kind: its
+// declaration, contents.metric_specs). Throws UsageError when a compared metric is no column of
 // the file, has no range, or a value lies outside its range (naming the run).
 AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule& rule,
-                             std::int32_t configurations, std::int32_t max_runs,
-                             const std::function<MetricKind(std::string_view)>& kind_of);
+                             std::int32_t configurations, std::int32_t max_runs);
 
 }  // namespace ggk::engine

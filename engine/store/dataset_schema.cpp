@@ -103,6 +103,8 @@ constexpr std::array kSchemas = {
     DatasetSchema{"optimal_actions", "state,action", "flag",
                   "chain: 1 where the action is optimal by value iteration"},
     DatasetSchema{"fit_metrics", "row", "", "one row per fit of this run (the summary's columns)"},
+    DatasetSchema{"metric_specs", "metric", "",
+                  "fit_metrics' metrics after status: name, kind, unit, meaning, low, high"},
     // a fit (fits/<basis>/<point>/)
     DatasetSchema{"fit:centers", "centre", "node id", "the graph node of each kernel centre"},
     DatasetSchema{"fit:weights", "coefficient", "",

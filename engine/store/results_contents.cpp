@@ -2,11 +2,14 @@
 
 #include <charconv>
 #include <cmath>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "engine/job/usage_error.hpp"
+#include "engine/store/metric_specs_table.hpp"
 
 namespace ggk::engine {
 namespace {
@@ -53,11 +56,20 @@ ResultsContents read_contents(const Hdf5File& file) {
   // then a study's keys), status, the metrics. A point of a study is its
   // configuration's sweep point.
   std::size_t point_column = 1, status_column = 0;
+  std::optional<std::vector<MetricSpec>> declared;
   for (std::size_t l = 0; l < locations.size(); ++l) {
     const auto configuration = static_cast<std::int64_t>(l);
     for (const std::int32_t run : complete_runs(file, locations[l], runs)) {
       ++contents.complete_runs;
       const std::string table = run_group(locations[l], run) + "/fit_metrics";
+      try {
+        if (auto specs =
+                read_metric_specs(file, run_group(locations[l], run) + "/" + kMetricSpecsTable)) {
+          declared = declared ? united_metric_specs(*declared, *specs) : std::move(*specs);
+        }
+      } catch (const std::runtime_error& e) {
+        throw UsageError(e.what());
+      }
       if (columns.empty()) {
         columns = file.read_table_columns(table);
         for (std::size_t c = 0; c < columns.size(); ++c) {
@@ -86,6 +98,11 @@ ResultsContents read_contents(const Hdf5File& file) {
         contents.fits.push_back(std::move(fit));
       }
     }
+  }
+  contents.metrics_declared = declared.has_value();
+  for (const std::string& name : contents.metric_names) {
+    const MetricSpec* spec = declared ? find_metric_spec(*declared, name) : nullptr;
+    contents.metric_specs.push_back(spec != nullptr ? *spec : legacy_metric_spec(name));
   }
   return contents;
 }

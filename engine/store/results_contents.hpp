@@ -15,6 +15,7 @@
 #include "engine/hdf5/hdf5_file.hpp"
 #include "engine/store/results_layout.hpp"
 #include "engine/store/run_store.hpp"
+#include "engine/tasks/metric_spec.hpp"
 
 namespace ggk::engine {
 
@@ -36,7 +37,12 @@ struct ResultsContents {
   bool summary_written = false;           // /<task>/summary exists
   std::vector<std::string> axis_names;    // the sweep point's axes (basis, kernels, ...)
   std::vector<std::string> metric_names;  // the metrics the task reports, then fit_seconds
-  std::vector<FitRow> fits;               // in run order
+  // Their declarations, one per name (metric_specs_table.hpp): the complete
+  // runs' united; for a metric no run declares (a file written before the
+  // declarations), legacy_metric_spec's.
+  std::vector<MetricSpec> metric_specs;
+  bool metrics_declared = false;  // some complete run declares its metrics
+  std::vector<FitRow> fits;       // in run order
 };
 
 // The rows of every complete run. Their columns: run, sweep_point, the point's

@@ -79,15 +79,12 @@ std::string number_text(double v, int precision = 4) {
   return text;
 }
 
-Interval clipped_to_rate(Interval ci) {
-  if (!std::isnan(ci.low)) ci.low = std::clamp(ci.low, 0.0, 1.0);
-  if (!std::isnan(ci.high)) ci.high = std::clamp(ci.high, 0.0, 1.0);
+// The interval intersected with [low, high] (bounds that are NaN stay NaN).
+Interval clipped_to(Interval ci, double low, double high) {
+  if (!std::isnan(ci.low)) ci.low = std::clamp(ci.low, low, high);
+  if (!std::isnan(ci.high)) ci.high = std::clamp(ci.high, low, high);
   return ci;
 }
-
-// A rate whose values at a point are all 0 or 1 is a per-run success (e.g.
-// success from A): its interval is Wilson's; any other is a mean with Student's
-// t (clipped to [0, 1] for a rate).
 
 std::string csv_field(const std::string& text) {
   if (text.find_first_of(",\"\n") == std::string::npos) return text;
@@ -113,8 +110,7 @@ Hdf5File open_for_reading(const std::filesystem::path& path) {
 
 // The fits grouped by sweep point, in point order, with each metric's interval
 // by its kind.
-std::vector<PointSummary> summarise_points(const ResultsContents& contents,
-                                           MetricKindLookup metric_kind) {
+std::vector<PointSummary> summarise_points(const ResultsContents& contents) {
   struct Values {
     PointSummary summary;
     std::vector<std::vector<double>> per_metric;  // one value per fit
@@ -136,8 +132,8 @@ std::vector<PointSummary> summarise_points(const ResultsContents& contents,
   std::vector<PointSummary> points;
   for (auto& [index, point] : by_point) {
     for (std::size_t m = 0; m < point.per_metric.size(); ++m) {
-      const MetricKind kind = metric_kind(contents.header.task, contents.metric_names[m]);
-      point.summary.metrics.push_back(metric_interval(point.per_metric[m], kind));
+      point.summary.metrics.push_back(
+          metric_interval(point.per_metric[m], contents.metric_specs[m]));
     }
     points.push_back(std::move(point.summary));
   }
@@ -150,7 +146,7 @@ void write_csv(const ResultsContents& contents, std::span<const PointSummary> po
                std::ostream& out) {
   if (points.empty()) return;
   for (const std::string& axis : contents.axis_names) out << csv_field(axis) << ",";
-  out << "fits,failed,max_iterations";
+  out << "fits,fits_failed,fits_capped";
   for (const std::string& name : contents.metric_names) {
     out << "," << csv_field(name) << "," << csv_field(name + "_ci_low") << ","
         << csv_field(name + "_ci_high");
@@ -178,6 +174,49 @@ void write_aligned(const std::vector<std::vector<std::string>>& cells, std::ostr
       out << (i == 0 ? "" : "  ") << std::string(widths[i] - line[i].size(), ' ') << line[i];
     }
     out << "\n";
+  }
+}
+
+// "[0, 1]", "[0, inf)", "" for an unbounded range.
+std::string range_text(const MetricSpec& spec) {
+  const bool low = std::isfinite(spec.low), high = std::isfinite(spec.high);
+  if (!low && !high) return "";
+  return (low ? "[" + number_text(spec.low, 6) : "(-inf") + ", " +
+         (high ? number_text(spec.high, 6) + "]" : "inf)");
+}
+
+// The interval method of a metric: what metric_interval does with it.
+std::string interval_method(const MetricSpec& spec) {
+  const bool bounded = std::isfinite(spec.low) || std::isfinite(spec.high);
+  const std::string t = bounded ? "Student t within the range" : "Student t";
+  return spec.kind == MetricKind::kIndicator ? "Wilson (0/1 per run), else " + t : t;
+}
+
+// One line per metric shown: its name, unit, range and interval, then what it
+// measures (from the file's metric_specs; a file written before them says so).
+void write_legend(const ResultsContents& contents, std::ostream& out) {
+  out << "metrics:";
+  if (!contents.metrics_declared) {
+    out << "  (the file declares none: written by a ggk before 2026-11-29; kinds by name)";
+  }
+  out << "\n";
+  std::vector<std::vector<std::string>> cells;
+  for (const MetricSpec& spec : contents.metric_specs) {
+    const std::string unit = spec.unit.empty() ? "" : "[" + spec.unit + "]";
+    cells.push_back(
+        {"  " + spec.name, unit, range_text(spec), interval_method(spec), one_line(spec.meaning)});
+  }
+  std::vector<std::size_t> widths(5, 0);
+  for (const auto& line : cells) {
+    for (std::size_t i = 0; i < line.size(); ++i) widths[i] = std::max(widths[i], line[i].size());
+  }
+  for (const auto& line : cells) {
+    std::string text;
+    for (std::size_t i = 0; i < line.size(); ++i) {
+      text += line[i] + std::string(widths[i] - line[i].size() + 2, ' ');
+    }
+    while (!text.empty() && text.back() == ' ') text.pop_back();
+    out << text << "\n";
   }
 }
 
@@ -223,11 +262,11 @@ void write_text(const std::filesystem::path& path, const ResultsContents& conten
     capped += p.capped;
   }
   out << "summary:  " << fits << " fits (" << failed << " failed, " << capped
-      << " stopped at max_iterations); per sweep point: mean over runs [95 % CI: Student t, "
-         "Wilson for 0/1 metrics]\n";
+      << " capped: stopped at lspi.max_iterations); per sweep point: mean over runs [95 % CI]\n";
+  write_legend(contents, out);
   std::vector<std::vector<std::string>> cells;
   std::vector<std::string> header_cells = contents.axis_names;
-  header_cells.insert(header_cells.end(), {"fits", "failed", "max_it"});
+  header_cells.insert(header_cells.end(), {"fits", "failed", "capped"});
   header_cells.insert(header_cells.end(), contents.metric_names.begin(),
                       contents.metric_names.end());
   cells.push_back(std::move(header_cells));
@@ -263,8 +302,13 @@ void keep_columns(ResultsContents& contents, const std::vector<std::string>& col
     kept.push_back(static_cast<std::size_t>(at - contents.metric_names.begin()));
   }
   std::vector<std::string> names;
-  for (const std::size_t m : kept) names.push_back(contents.metric_names[m]);
+  std::vector<MetricSpec> specs;
+  for (const std::size_t m : kept) {
+    names.push_back(contents.metric_names[m]);
+    specs.push_back(contents.metric_specs[m]);
+  }
   contents.metric_names = std::move(names);
+  contents.metric_specs = std::move(specs);
   for (FitRow& fit : contents.fits) {
     std::vector<double> values;
     for (const std::size_t m : kept) values.push_back(fit.values[m]);
@@ -290,7 +334,7 @@ struct PairedPoint {
 // finite values: Newcombe's interval for a rate whose pairs are all 0 or 1,
 // else the paired t (python/ggk_results/paired.py makes the same choice).
 std::vector<PairedPoint> pair_points(const ResultsContents& contents,
-                                     const PairedComparison& paired, MetricKindLookup metric_kind) {
+                                     const PairedComparison& paired) {
   const auto axis_at =
       std::find(contents.axis_names.begin(), contents.axis_names.end(), paired.axis);
   if (axis_at == contents.axis_names.end()) {
@@ -368,12 +412,14 @@ std::vector<PairedPoint> pair_points(const ResultsContents& contents,
       const auto binary = [](const std::vector<double>& v) {
         return std::all_of(v.begin(), v.end(), [](double x) { return x == 0.0 || x == 1.0; });
       };
-      if (metric_kind(contents.header.task, contents.metric_names[m]) == MetricKind::kRate &&
-          binary(a) && binary(b)) {
+      const MetricSpec& spec = contents.metric_specs[m];
+      if (spec.kind == MetricKind::kIndicator && binary(a) && binary(b)) {
         metric.method = "newcombe";
         metric.difference = newcombe_paired_interval(a, b);
       } else {
-        metric.difference = paired_t_interval(a, b);
+        // A difference of two values in [low, high] lies in +-(high - low).
+        const double width = spec.high - spec.low;
+        metric.difference = clipped_to(paired_t_interval(a, b), -width, width);
       }
       out.metrics.push_back(metric);
     }
@@ -445,8 +491,7 @@ void write_paired_text(const std::filesystem::path& path, const ResultsContents&
   write_aligned(cells, out);
 }
 
-void print_info(const std::filesystem::path& path, std::ostream& out, const InfoOptions& options,
-                MetricKindLookup metric_kind) {
+void print_info(const std::filesystem::path& path, std::ostream& out, const InfoOptions& options) {
   const Hdf5File file = open_for_reading(path);
   ResultsContents contents = read_contents(file);
   // An adaptive study's cells, judged on every metric before --columns keeps some.
@@ -463,10 +508,8 @@ void print_info(const std::filesystem::path& path, std::ostream& out, const Info
   }
   std::optional<AdaptiveState> state;
   if (rule) {
-    const std::string task = contents.header.task;
     state = adaptive_state(contents, *rule, static_cast<std::int32_t>(contents.configurations),
-                           static_cast<std::int32_t>(contents.header.runs),
-                           [&](std::string_view metric) { return metric_kind(task, metric); });
+                           static_cast<std::int32_t>(contents.header.runs));
   }
   if (options.adaptive) {
     const auto rows = adaptive_cell_rows(*state, *rule, options.format == InfoFormat::kCsv);
@@ -487,7 +530,7 @@ void print_info(const std::filesystem::path& path, std::ostream& out, const Info
   }
   keep_columns(contents, options.columns);
   if (options.paired) {
-    const std::vector<PairedPoint> points = pair_points(contents, *options.paired, metric_kind);
+    const std::vector<PairedPoint> points = pair_points(contents, *options.paired);
     if (options.format == InfoFormat::kCsv) {
       write_paired_csv(contents, *options.paired, points, out);
     } else {
@@ -495,7 +538,7 @@ void print_info(const std::filesystem::path& path, std::ostream& out, const Info
     }
     return;
   }
-  const std::vector<PointSummary> points = summarise_points(contents, metric_kind);
+  const std::vector<PointSummary> points = summarise_points(contents);
   if (options.format == InfoFormat::kCsv) {
     write_csv(contents, points, out);
   } else {
@@ -511,9 +554,9 @@ void print_info(const std::filesystem::path& path, std::ostream& out, const Info
 
 }  // namespace
 
-Interval metric_interval(std::span<const double> values, MetricKind kind) {
-  if (kind == MetricKind::kRate) {
-    // Wilson's for 0/1 values; Student's t clipped to [0, 1] for fractions.
+Interval metric_interval(std::span<const double> values, const MetricSpec& spec) {
+  if (spec.kind == MetricKind::kIndicator) {
+    // Wilson's for 0/1 values (inside [0, 1] already); else as a mean.
     std::int64_t successes = 0, trials = 0;
     bool binary = true;
     for (const double v : values) {
@@ -523,10 +566,8 @@ Interval metric_interval(std::span<const double> values, MetricKind kind) {
       ++trials;
     }
     if (binary && trials >= 1) return wilson_interval(successes, trials);
-    return clipped_to_rate(mean_interval(values));
   }
-  if (kind == MetricKind::kFraction) return clipped_to_rate(mean_interval(values));
-  return mean_interval(values);
+  return clipped_to(mean_interval(values), spec.low, spec.high);
 }
 
 Interval paired_t_interval(std::span<const double> a, std::span<const double> b) {
@@ -608,20 +649,19 @@ std::vector<std::string> info_column_list(std::string_view text) {
   }
 }
 
-void print_results_info(const std::filesystem::path& path, std::ostream& out, InfoFormat format,
-                        MetricKindLookup metric_kind) {
+void print_results_info(const std::filesystem::path& path, std::ostream& out, InfoFormat format) {
   InfoOptions options;
   options.format = format;
-  print_results_info(path, out, options, metric_kind);
+  print_results_info(path, out, options);
 }
 
 void print_results_info(const std::filesystem::path& path, std::ostream& out,
-                        const InfoOptions& options, MetricKindLookup metric_kind) {
+                        const InfoOptions& options) {
   // What is printed is gathered first: a file that fails half way (an attribute
   // of the wrong type, damage) prints one error, not half a report.
   std::ostringstream report;
   try {
-    print_info(path, report, options, metric_kind);
+    print_info(path, report, options);
   } catch (const UsageError&) {
     throw;
   } catch (const std::runtime_error& e) {

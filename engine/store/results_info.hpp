@@ -19,15 +19,11 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/tasks/run_record.hpp"
+#include "engine/tasks/metric_spec.hpp"
 
 namespace ggk::engine {
 
 enum class InfoFormat { kText, kCsv };
-
-// The kind of a metric column of a task's results (a mean, or a rate in [0, 1]),
-// which decides its interval; the engine passes tasks/task_list.hpp's metric_kind.
-using MetricKindLookup = MetricKind (*)(std::string_view task, std::string_view metric);
 
 // `--paired AXIS=A,B`: the axis (a column between sweep_point and status) and
 // its two values, as the file writes them (basis=ggk,ogk; kernels=64,16).
@@ -51,9 +47,8 @@ struct InfoOptions {
 // a column is no metric of the file, or the paired axis or a value is not in it
 // (each named, with what the file has).
 void print_results_info(const std::filesystem::path& file, std::ostream& out,
-                        const InfoOptions& options, MetricKindLookup metric_kind);
-void print_results_info(const std::filesystem::path& file, std::ostream& out, InfoFormat format,
-                        MetricKindLookup metric_kind);
+                        const InfoOptions& options);
+void print_results_info(const std::filesystem::path& file, std::ostream& out, InfoFormat format);
 
 // A 95 % confidence interval: [low, high] around the estimate; NaN bounds when
 // there are too few values for one.
@@ -81,9 +76,10 @@ Interval paired_t_interval(std::span<const double> a, std::span<const double> b)
 // newcombe_paired_ci): inside [-1, 1].
 Interval newcombe_paired_interval(std::span<const double> a, std::span<const double> b);
 
-// The interval `ggk info` gives a metric of this kind over runs (run_record.hpp:
-// MetricKind): Wilson for a rate whose every value is 0 or 1, Student's t
-// clipped to [0, 1] for other rates and fractions, Student's t for means.
-Interval metric_interval(std::span<const double> values, MetricKind kind);
+// The interval `ggk info` gives a metric over runs, by its declaration
+// (tasks/metric_spec.hpp): Wilson's for an indicator whose every value is 0 or
+// 1; else Student's t, intersected with the metric's range (which keeps its
+// coverage and a bounded metric's interval inside its bounds).
+Interval metric_interval(std::span<const double> values, const MetricSpec& spec);
 
 }  // namespace ggk::engine

@@ -15,6 +15,7 @@
 
 #include "engine/store/dataset_schema.hpp"
 #include "engine/store/disk_room.hpp"
+#include "engine/store/metric_specs_table.hpp"
 #include "engine/store/run_digest.hpp"
 
 namespace ggk::engine {
@@ -129,8 +130,22 @@ TableValue study_cell(const std::string& value) {
 }
 
 bool is_integer_metric(const RunRecord& record, const std::string& name) {
-  return std::find(record.integer_metrics.begin(), record.integer_metrics.end(), name) !=
-         record.integer_metrics.end();
+  const MetricSpec* spec = find_metric_spec(record.metric_specs, name);
+  return spec != nullptr && spec->integer;
+}
+
+// The declarations of the run's fit_metrics columns after status: the task's
+// (an undeclared one, of a record built by hand, an unbounded mean without
+// unit), then the fit's wall time.
+std::vector<MetricSpec> declared_columns(const RunRecord& record,
+                                         const std::vector<std::string>& metric_names) {
+  std::vector<MetricSpec> specs;
+  for (const std::string& name : metric_names) {
+    const MetricSpec* spec = find_metric_spec(record.metric_specs, name);
+    specs.push_back(spec != nullptr ? *spec : mean_metric(name, "", ""));
+  }
+  specs.push_back(fit_seconds_spec());
+  return specs;
 }
 
 // An integer metric's value as int64; one that is not a whole number is a bug
@@ -419,10 +434,13 @@ std::string stage_run(Hdf5File& file, const JobSpec& job, const RunRecord& recor
   const std::vector<AxisAssignment> no_values;
   const std::vector<AxisAssignment>& study_values =
       record.fits.empty() ? no_values : record.fits.front().point.study_values;
+  const std::vector<std::string> metric_names = metric_names_of(record);
   const auto columns =
-      summary_columns(metric_names_of(record), false, study_values, record.integer_metrics);
+      summary_columns(metric_names, false, study_values, integer_metric_names(record.metric_specs));
   file.create_table(staging + "/fit_metrics", columns);
   file.append_rows(staging + "/fit_metrics", rows);
+  write_metric_specs(file, staging + "/" + kMetricSpecsTable,
+                     declared_columns(record, metric_names));
   if (!study_values.empty()) {
     std::string axes;
     for (const AxisAssignment& value : study_values) axes += (axes.empty() ? "" : ",") + value.key;
@@ -555,6 +573,9 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
   std::vector<TableRow> rows;
   std::vector<TableColumn> columns;
   std::string study_axes;
+  // The runs' metric declarations united (each range the smallest that holds
+  // every configuration's); none from runs written before them.
+  std::optional<std::vector<MetricSpec>> declared;
   // A study's configurations: the column `configuration` after `run`, from
   // each group's attribute (a run's own tables do not hold it: a grown study
   // renumbers its configurations, never its runs' data).
@@ -565,6 +586,10 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
         configurations ? configuration_of(file, location) : std::int32_t{0};
     for (const std::int32_t run : complete_runs(file, location, runs)) {
       const std::string table = run_group(location, run) + "/fit_metrics";
+      if (auto specs =
+              read_metric_specs(file, run_group(location, run) + "/" + kMetricSpecsTable)) {
+        declared = declared ? united_metric_specs(*declared, *specs) : std::move(*specs);
+      }
       if (columns.empty()) {
         columns = file.read_table_columns(table);
         if (configurations) {
@@ -607,8 +632,20 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
     describe_table(file, staged, "one row per fit of every complete run, in run order");
     file.flush();
   }
+  const std::string specs_path = "/" + task + "/" + kMetricSpecsTable;
+  const std::string specs_staged = kStagingRoot + specs_path;
+  if (declared) {
+    if (file.exists(specs_staged)) drop(file, specs_staged);
+    write_metric_specs(file, specs_staged, *declared);
+    describe_table(file, specs_staged, "the summary's metrics: kind, unit, meaning, range");
+    file.flush();
+  }
   if (file.exists(path)) file.move(path, retired);
   if (!columns.empty()) file.move(staged, path);
+  if (declared) {
+    if (file.exists(specs_path)) file.move(specs_path, specs_staged + "_old");
+    file.move(specs_staged, specs_path);
+  }
   file.flush();
   drop_staging(file);
   file.flush();

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include <tbb/parallel_for.h>
@@ -300,16 +302,28 @@ NamedArray matrix_array(std::string name, const kernels::RowMatrixXd& matrix) {
 
 }  // namespace
 
-std::vector<MetricSpec> continuous_metric_specs(const ContinuousEnvironment& env) {
-  std::vector<MetricSpec> specs = {{"mean_return", MetricKind::kMean, true},
-                                   {env.ended_metric, MetricKind::kFraction, true},
-                                   {"mean_steps", MetricKind::kMean, true}};
+std::vector<MetricSpec> continuous_metric_specs(const ContinuousEnvironment& env,
+                                                const ContinuousProtocol& protocol) {
+  const double most_steps = protocol.test_max_steps;
+  // An episode takes 1 .. test_max_steps steps: its return lies between the
+  // least and the most that many rewards can sum to (0 included).
+  double least_return = std::min(0.0, most_steps * env.reward_low);
+  double most_return = std::max(0.0, most_steps * env.reward_high);
+  if (env.return_range) {
+    std::tie(least_return, most_return) = env.return_range(protocol.test_max_steps);
+  }
+  std::vector<MetricSpec> specs = {
+      tested(mean_metric("mean_return", "1",
+                         "mean over the test episodes of the greedy policy's summed rewards",
+                         std::isnan(least_return) ? -kUnbounded : least_return,
+                         std::isnan(most_return) ? kUnbounded : most_return)),
+      tested(fraction_metric(env.ended_metric,
+                             "share of the test episodes that ended (terminal or stopped) within "
+                             "test_max_steps")),
+      tested(
+          mean_metric("mean_steps", "steps", "mean steps of the test episodes", 0.0, most_steps))};
   specs.insert(specs.end(), graph_metric_specs().begin(), graph_metric_specs().end());
   return specs;
-}
-
-MetricKind continuous_metric_kind(std::string_view ended_metric, std::string_view metric) {
-  return metric == ended_metric ? MetricKind::kFraction : MetricKind::kMean;
 }
 
 RunRecord run_continuous_protocol(const ContinuousEnvironment& env,
@@ -320,11 +334,11 @@ RunRecord run_continuous_protocol(const ContinuousEnvironment& env,
   ctx.protocol = &protocol;
   ctx.job = &job;
   ctx.run = run;
-  ctx.specs = continuous_metric_specs(env);
+  ctx.specs = continuous_metric_specs(env, protocol);
   RunRecord record;
   record.run = run;
   record.action_names = env.action_names;
-  record.integer_metrics = integer_metric_names(ctx.specs);
+  record.metric_specs = ctx.specs;
 
   // The samples, unscaled: exactly what the simulator produced. A failing
   // simulator fails the run.

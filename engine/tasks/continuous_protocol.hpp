@@ -26,6 +26,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "engine/job/job_spec.hpp"
@@ -92,6 +93,14 @@ struct ContinuousEnvironment {
   // by its name: "collision_fraction" (Khepera), "success_rate" (a goal task),
   // "fall_fraction" (pendulum).
   std::string ended_metric = "ended_fraction";
+  // A step's reward lies in [reward_low, reward_high] (the task's physics; the
+  // pendulum's -1 or 0): the bounds of mean_return's declared range.
+  double reward_low = -kUnbounded;
+  double reward_high = kUnbounded;
+  // mean_return's range for test episodes of at most `steps` steps, where the
+  // task knows a tighter one (the Khepera's episode stops at its first
+  // collision); unset: `steps` times the reward bounds (and 0).
+  std::function<std::pair<double, double>(std::int32_t steps)> return_range;
   // Non-empty: the walks' per-sample stop flags are stored under this name
   // ("samples/collisions").
   std::string stop_flags_array;
@@ -118,11 +127,10 @@ struct ContinuousProtocol {
 // too), then graph_metric_specs() over the unit graph (the stretch's ED between
 // the units' prototypes; the kernel gap over every observation of the walks, GGK
 // in its continuous form).
-std::vector<MetricSpec> continuous_metric_specs(const ContinuousEnvironment& env);
-
-// The kind of `metric` of a continuous task whose ended metric is `ended_metric`:
-// that one a fraction of the episodes, every other a mean.
-MetricKind continuous_metric_kind(std::string_view ended_metric, std::string_view metric);
+// Their ranges: mean_return's env.return_range, else test_max_steps steps of
+// the environment's reward bounds (and 0); mean_steps within [0, test_max_steps].
+std::vector<MetricSpec> continuous_metric_specs(const ContinuousEnvironment& env,
+                                                const ContinuousProtocol& protocol);
 
 // The runs: one run of the protocol for every sweep point. Throws only on
 // programmer errors; a fit that cannot start (more kernels than occupied units,

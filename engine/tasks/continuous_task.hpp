@@ -9,7 +9,6 @@
 //                                        valid while the Config lives (the job
 //                                        holds it for the whole run)
 //   Sizes(const Config&) -> ContinuousSizes
-//   Ended                                the ended metric's name (a fraction)
 //
 // The Khepera builds its own (its parser also reads an arena file).
 
@@ -26,7 +25,7 @@
 
 namespace ggk::engine {
 
-template <auto Parse, auto Environment, auto Sizes, const char* Ended>
+template <auto Parse, auto Environment, auto Sizes>
 TaskDefinition continuous_task_definition(std::string_view name) {
   using Config = std::decay_t<decltype(Parse(std::declval<const TomlTableReader&>(),
                                              std::declval<const std::filesystem::path&>()))>;
@@ -41,7 +40,10 @@ TaskDefinition continuous_task_definition(std::string_view name) {
             const auto& config = task_config_as<Config>(job);
             return estimate_continuous_run(Sizes(config), config.protocol, job);
           },
-          [](std::string_view metric) { return continuous_metric_kind(Ended, metric); }};
+          [](const JobSpec& job) {
+            const auto& config = task_config_as<Config>(job);
+            return continuous_metric_specs(Environment(config), config.protocol);
+          }};
 }
 
 }  // namespace ggk::engine

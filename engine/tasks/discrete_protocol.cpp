@@ -25,10 +25,14 @@ namespace ggk::engine {
 
 namespace {
 
-const std::vector<MetricSpec>& goal_test_specs() {
-  static const std::vector<MetricSpec> specs = {{"success_rate", MetricKind::kFraction, true},
-                                                {"mean_steps_to_goal", MetricKind::kMean, true}};
-  return specs;
+// The goal test's metrics (its roll-outs take test_max_steps steps at most).
+std::vector<MetricSpec> goal_test_specs(const DiscreteProtocol& protocol) {
+  return {tested(fraction_metric("success_rate",
+                                 "share of the start states from which the greedy policy reaches "
+                                 "a goal within test_max_steps")),
+          tested(mean_metric("mean_steps_to_goal", "steps",
+                             "mean steps to a goal over the start states that reach one", 0.0,
+                             protocol.test_max_steps))};
 }
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -110,7 +114,7 @@ struct RunContext {
   std::unique_ptr<kernels::EmpiricalTransitionModel> model;
   RunGraph graph;
   RunEigenbases eigenbases;         // the proto-value functions, when a point asks
-  std::vector<MetricSpec> metrics;  // discrete_metric_specs(*env)
+  std::vector<MetricSpec> metrics;  // discrete_metric_specs(*env, *protocol)
   std::vector<std::int32_t> nearest;
   std::vector<double> nearest_distance;
   std::vector<std::int32_t> visited_states;  // in id order
@@ -304,30 +308,43 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
 
 }  // namespace
 
-std::vector<MetricSpec> discrete_metric_specs(const DiscreteEnvironment& env) {
-  std::vector<MetricSpec> specs = env.test_policy ? env.policy_metrics : goal_test_specs();
+std::vector<MetricSpec> discrete_metric_specs(std::span<const MetricSpec> policy_metrics,
+                                              std::span<const std::string> named_starts,
+                                              const DiscreteProtocol& protocol) {
+  std::vector<MetricSpec> specs(policy_metrics.begin(), policy_metrics.end());
+  if (specs.empty()) specs = goal_test_specs(protocol);
   specs.insert(specs.end(), graph_metric_specs().begin(), graph_metric_specs().end());
-  for (const auto& named : env.named_starts) {
-    specs.push_back({"success_from_" + named.first, MetricKind::kRate, true});
-    specs.push_back({"steps_from_" + named.first, MetricKind::kMean, true});
+  for (const std::string& name : named_starts) {
+    specs.push_back(tested(indicator_metric(
+        "success_from_" + name,
+        "1 when the greedy policy reaches a goal from start " + name + " within test_max_steps")));
+    specs.push_back(
+        tested(mean_metric("steps_from_" + name, "steps",
+                           "steps to a goal from start " + name + " (NaN when it does not arrive)",
+                           0.0, protocol.test_max_steps)));
   }
   return specs;
+}
+
+std::vector<MetricSpec> discrete_metric_specs(const DiscreteEnvironment& env,
+                                              const DiscreteProtocol& protocol) {
+  std::vector<std::string> named_starts;
+  for (const auto& named : env.named_starts) named_starts.push_back(named.first);
+  return discrete_metric_specs(env.test_policy ? std::span<const MetricSpec>(env.policy_metrics)
+                                               : std::span<const MetricSpec>(),
+                               named_starts, protocol);
 }
 
 const std::vector<std::string>& discrete_metric_names() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> result;
-    for (const MetricSpec& spec : discrete_metric_specs(DiscreteEnvironment{})) {
+    for (const MetricSpec& spec :
+         discrete_metric_specs(DiscreteEnvironment{}, DiscreteProtocol{})) {
       result.push_back(spec.name);
     }
     return result;
   }();
   return names;
-}
-
-MetricKind discrete_metric_kind(std::string_view metric) {
-  return metric.starts_with("success_from_") ? MetricKind::kRate
-                                             : declared_kind(goal_test_specs(), metric);
 }
 
 RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscreteProtocol& protocol,
@@ -336,7 +353,7 @@ RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscretePr
   RunRecord record;
   record.run = run;
   record.action_names = env.action_names;
-  record.integer_metrics = integer_metric_names(discrete_metric_specs(env));
+  record.metric_specs = discrete_metric_specs(env, protocol);
   if (!env.test_policy) {  // the states steps_to_goal indexes
     record.arrays.push_back({"start_states",
                              {static_cast<std::int64_t>(env.start_states.size())},
@@ -388,7 +405,7 @@ RunRecord run_discrete_protocol(const DiscreteEnvironment& env, const DiscretePr
   ctx.graph = run_graph(record.graph, visited, center_order(env, visited, center_stream),
                         env.state_vectors, points);
   ctx.eigenbases = run_eigenbases(record.graph, visited, job.pvf, points);
-  ctx.metrics = discrete_metric_specs(env);
+  ctx.metrics = record.metric_specs;
   kernels::nearest_visited_states(env.state_vectors, visited, ctx.nearest, ctx.nearest_distance);
   for (std::int32_t s = 0; s < env.num_states; ++s) {
     if (visited[static_cast<std::size_t>(s)]) ctx.visited_states.push_back(s);

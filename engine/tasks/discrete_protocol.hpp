@@ -76,15 +76,17 @@ struct DiscreteProtocol {
 // env.policy_metrics), graph_metric_specs() (graph_protocol.hpp; the graph's
 // nodes are the visited states, the kernel gap's states the visited states),
 // then success_from_<name> and steps_from_<name> of each named start.
-std::vector<MetricSpec> discrete_metric_specs(const DiscreteEnvironment& env);
+std::vector<MetricSpec> discrete_metric_specs(const DiscreteEnvironment& env,
+                                              const DiscreteProtocol& protocol);
+// The same from what decides them, for a task that knows them without building
+// its environment: env.policy_metrics (empty: the goal test's) and the names of
+// env.named_starts.
+std::vector<MetricSpec> discrete_metric_specs(std::span<const MetricSpec> policy_metrics,
+                                              std::span<const std::string> named_starts,
+                                              const DiscreteProtocol& protocol);
 
 // The names of discrete_metric_specs() for a goal task without named starts.
 const std::vector<std::string>& discrete_metric_names();
-
-// The kinds of the goal test's metrics: success_rate is a fraction (of the start
-// states, per run); success_from_<name> of each named start a rate (0 or 1 per
-// fit); the others are means.
-MetricKind discrete_metric_kind(std::string_view metric);
 
 // What a run's memory depends on, known before the environment is built.
 struct DiscreteSizes {

@@ -11,28 +11,23 @@
 namespace ggk::engine {
 
 const std::vector<MetricSpec>& graph_metric_specs() {
-  static const std::vector<MetricSpec> specs = {{"lspi_iterations", MetricKind::kMean, false, true},
-                                                {"graph_nodes", MetricKind::kMean, false, true},
-                                                {"edges", MetricKind::kMean, false, true},
-                                                {"median_degree"},
-                                                {"geodesic_stretch"},
-                                                {"kernel_gap"}};
+  static const std::vector<MetricSpec> specs = {
+      integer(mean_metric("lspi_iterations", "iterations",
+                          "LSPI iterations the fit took (up to lspi.max_iterations)", 0.0)),
+      integer(mean_metric("graph_nodes", "nodes",
+                          "nodes of the run's sample graph (visited states, occupied SOM units)",
+                          0.0)),
+      integer(mean_metric("edges", "edges", "undirected edges of the run's sample graph", 0.0)),
+      mean_metric("median_degree", "edges", "median number of neighbours of the graph's nodes",
+                  0.0),
+      mean_metric("geodesic_stretch", "1",
+                  "median over pairs of the first 100 centres of shortest-path over "
+                  "straight-line distance",
+                  0.0),
+      mean_metric("kernel_gap", "1",
+                  "mean over states and centres of |geodesic - ordinary Gaussian kernel value|",
+                  0.0, 1.0)};
   return specs;
-}
-
-std::vector<std::string> integer_metric_names(std::span<const MetricSpec> specs) {
-  std::vector<std::string> names;
-  for (const MetricSpec& spec : specs) {
-    if (spec.integer) names.push_back(spec.name);
-  }
-  return names;
-}
-
-MetricKind declared_kind(std::span<const MetricSpec> specs, std::string_view metric) {
-  for (const MetricSpec& spec : specs) {
-    if (spec.name == metric) return spec.kind;
-  }
-  return MetricKind::kMean;
 }
 
 FitMetrics::FitMetrics(std::span<const MetricSpec> specs)

@@ -5,9 +5,9 @@
 // diagnostics), the fits' metrics by name, the iteration history of the tested
 // metrics, and the record of a fit that cannot start.
 //
-// A task declares its metrics (MetricSpec: name, kind, tested or not) in
-// summary-column order; a fit sets them by name (FitMetrics); what the fit does
-// not set is NaN. The graph metrics (graph_metric_specs) follow the task's own.
+// A task declares its metrics (metric_spec.hpp: name, kind, unit, meaning,
+// range, tested or not) in summary-column order; a fit sets them by name (FitMetrics); what the fit
+// does not set is NaN. The graph metrics (graph_metric_specs) follow the task's own.
 //
 // Thread-safety: RunGraph is read-only once built and shared by the fits of a
 // run; FitMetrics belongs to one fit.
@@ -22,34 +22,18 @@
 #include <vector>
 
 #include "engine/job/sweep.hpp"
+#include "engine/tasks/metric_spec.hpp"
 #include "engine/tasks/run_record.hpp"
 #include "kernels/csr_graph.hpp"
 #include "kernels/eigen_types.hpp"
 
 namespace ggk::engine {
 
-// One metric of a task's fits. `tested`: a value of the test of a greedy policy,
-// so that [lspi] evaluate_iterations measures it for every iterate too
-// (history/<name>); the others (LSPI's iteration count, the graph's diagnostics)
-// belong to the fit or the run.
-struct MetricSpec {
-  std::string name;
-  MetricKind kind = MetricKind::kMean;
-  bool tested = false;
-  bool integer = false;  // always a whole number: stored as an int64 column and attribute
-};
-
 // The metrics every graph task's fits carry after its own, in this order:
 // lspi_iterations, graph_nodes and the diagnostics of kernels/graph_diagnostics.hpp
 // (edges, median_degree, geodesic_stretch per run, kernel_gap per fit;
 // engine/tasks/README.md). All means; lspi_iterations, graph_nodes and edges integers.
 const std::vector<MetricSpec>& graph_metric_specs();
-
-// The names of the metrics `specs` declare integer (RunRecord::integer_metrics).
-std::vector<std::string> integer_metric_names(std::span<const MetricSpec> specs);
-
-// The kind `specs` declare for `metric`; a mean for a metric they do not declare.
-MetricKind declared_kind(std::span<const MetricSpec> specs, std::string_view metric);
 
 // A fit's metrics by name, in the order of `specs` (which must outlive it).
 class FitMetrics {

@@ -1,7 +1,8 @@
 #pragma once
 // Everything one run produces, as plain data: what a task's compute_run returns
 // (computed in parallel) and the store writes (on the one writer thread). Includes
-// nothing else of tasks/, so the store may read it without knowing any task.
+// nothing else of tasks/ but the metrics' vocabulary (metric_spec.hpp), so the
+// store may read it without knowing any task.
 
 #include <cstdint>
 #include <string>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "engine/job/sweep.hpp"
+#include "engine/tasks/metric_spec.hpp"
 #include "kernels/csr_graph.hpp"
 #include "kernels/eigen_types.hpp"
 #include "kernels/lspi.hpp"
@@ -38,16 +40,6 @@ struct NamedArray {
   ElementType element_type = ElementType::kFloat64;  // 2-D: kFloat64 or kInt32
 };
 
-// What a metric is, which decides the confidence interval `ggk info` gives its
-// mean over runs: a mean (Student's t); a rate, one 0/1 outcome per run such as
-// success from A (Wilson's score interval when every run's value is 0 or 1,
-// else Student's t clipped to [0, 1]); or a fraction, a per-run share of
-// episodes or states in [0, 1] such as the Khepera's collision fraction
-// (Student's t over runs clipped to [0, 1], never Wilson: a run is not one
-// trial, and all-zero runs give [0, 0]). Each task declares its metrics' kinds
-// (TaskDefinition::metric_kind); python/ggk_results/intervals.py agrees.
-enum class MetricKind { kMean, kRate, kFraction };
-
 struct FitRecord {
   SweepPoint point;
   std::string status;   // kernels::to_string(LspiStatus), or "invalid" when the fit could not start
@@ -72,9 +64,10 @@ struct RunRecord {
   kernels::RowMatrixXd node_states;       // graph.num_nodes rows
   std::vector<NamedArray> arrays;         // task-specific run data
   std::vector<std::string> action_names;  // of action codes 0, 1, ... (dataset action_names)
-  // Metrics that are always whole numbers (lspi_iterations, ...): int64 columns
-  // of fit_metrics and int64 attributes of the fit groups.
-  std::vector<std::string> integer_metrics;
+  // The declarations of the fits' metrics (FitRecord::metrics), in their order:
+  // written as the run's metric_specs; the integer ones (lspi_iterations, ...)
+  // are int64 columns of fit_metrics and int64 attributes of the fit groups.
+  std::vector<MetricSpec> metric_specs;
   std::vector<FitRecord> fits;  // one per sweep point, in sweep order
   // The fits are those a stored complete run lacks (WorkUnit::points): the
   // store extends that run with them (store/run_extension.hpp).

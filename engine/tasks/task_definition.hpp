@@ -7,10 +7,12 @@
 #include <cstdint>
 #include <span>
 #include <string_view>
+#include <vector>
 
 #include "engine/job/job_spec.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/task_table.hpp"
+#include "engine/tasks/metric_spec.hpp"
 #include "engine/tasks/run_memory.hpp"
 #include "engine/tasks/run_record.hpp"
 
@@ -30,15 +32,17 @@ using RunComputation = RunRecord (*)(const JobSpec& job, std::int32_t run,
 // creates the output file (engine/run/memory_check.hpp).
 using RunMemoryEstimator = RunMemoryEstimate (*)(const JobSpec& job);
 
-// The kind of each metric the task's fits report (run_record.hpp: MetricKind),
-// by the metric's name.
-using MetricKindOf = MetricKind (*)(std::string_view metric);
+// The metrics the task's fits report for `job` (metric_spec.hpp: kind, unit,
+// meaning, range), in summary-column order: what compute_run records in
+// RunRecord::metric_specs, known before any run (an adaptive rule's ranges are
+// checked against it). Cheap: builds at most the task's environment.
+using MetricSpecsOf = std::vector<MetricSpec> (*)(const JobSpec& job);
 
 struct TaskDefinition {
   TaskTable table;  // table.name is the task's name
   RunComputation compute_run = nullptr;
   RunMemoryEstimator estimate_run_bytes = nullptr;
-  MetricKindOf metric_kind = nullptr;  // nullptr: every metric is a mean
+  MetricSpecsOf metric_specs = nullptr;
 };
 
 }  // namespace ggk::engine

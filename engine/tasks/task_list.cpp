@@ -56,10 +56,4 @@ const TaskDefinition* find_task(std::string_view name) {
   return nullptr;
 }
 
-MetricKind metric_kind(std::string_view task, std::string_view metric) {
-  const TaskDefinition* definition = find_task(task);
-  if (definition == nullptr || definition->metric_kind == nullptr) return MetricKind::kMean;
-  return definition->metric_kind(metric);
-}
-
 }  // namespace ggk::engine

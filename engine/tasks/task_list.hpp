@@ -19,8 +19,4 @@ std::span<const TaskTable> task_tables();
 // The registered task called `name`, or nullptr.
 const TaskDefinition* find_task(std::string_view name);
 
-// The kind of `metric` in results of `task` as the task declares it; a mean for
-// a task or metric it does not declare.
-MetricKind metric_kind(std::string_view task, std::string_view metric);
-
 }  // namespace ggk::engine

@@ -10,6 +10,7 @@ from .figures import (FORMATS, add_format_argument, axes_of, axis_values, curve,
 from .fits import Fit, labelled
 from .intervals import (INDICATORS, is_indicator, is_rate, mean_ci, metric_ci,
                         newcombe_paired_ci, paired_t_ci, wilson_ci)
+from .metric_specs import MetricSpec, legacy_spec, read_metric_specs, spec_of
 from .metric_figure import (BASIS_STYLE, job_settings, metric_panels, metric_range,
                             plot_metric)
 from .paired import paired

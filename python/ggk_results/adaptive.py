@@ -11,7 +11,7 @@ import h5py
 import numpy as np
 import pandas as pd
 
-from .intervals import is_rate
+from .metric_specs import is_share, read_metric_specs, spec_of
 from .results_file import summary_frame
 from .sequential import asymptotic_confidence_sequence, confidence_sequence
 
@@ -83,6 +83,7 @@ def adaptive_cells(path, rule=None):
         task = f.attrs["task"]
         task = task.decode() if isinstance(task, bytes) else task
         configurations = max(1, sum(1 for k in f[task] if k.startswith("config_")))
+        specs = read_metric_specs(f, task)
     if "configuration" not in frame.columns:
         frame = frame.assign(configuration=0)
     metric_columns = set(frame.columns[frame.columns.get_loc("status") + 1:])
@@ -93,7 +94,9 @@ def adaptive_cells(path, rule=None):
     for metric in rule["metrics"]:
         if metric not in metric_columns or metric == "fit_seconds":
             raise ValueError(f"{path}: the task reports no metric {metric!r}")
-        ranges[metric] = rule["range"].get(metric, (0.0, 1.0) if is_rate(metric) else None)
+        # As ggk decides: the rule's range, else [0, 1] for a declared share.
+        share = is_share(spec_of(metric, specs))
+        ranges[metric] = rule["range"].get(metric, (0.0, 1.0) if share else None)
         if ranges[metric] is None and rule["method"] == "asymptotic":
             ranges[metric] = (-math.inf, math.inf)
         if ranges[metric] is None:

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from .intervals import metric_ci
+from .metric_specs import spec_of
 from .tables import AXES, INDEX_COLUMNS
 
 FORMATS = ("png", "pdf", "svg")
@@ -64,10 +65,11 @@ def facet_title(facet):
     return ", ".join(f"{k} {value_text(v)}" for k, v in facet.items())
 
 
-def curve(summary, metric, x="kernels", **fixed):
+def curve(summary, metric, x="kernels", spec=None, **fixed):
     """(values of axis x, estimates, CI low, CI high) of `metric` over runs, for
     the rows whose columns equal `fixed` (e.g. basis="ggk", solver="brm"); the
-    interval is metric_ci's. Refuses (ValueError) to pool rows of an axis that
+    interval is metric_ci's, by the metric's declaration `spec` (else the one
+    summary.attrs["metric_specs"] holds: Results.summary()'s; spec_of). Refuses (ValueError) to pool rows of an axis that
     still has several values."""
     mask = _mask(summary, fixed)
     pooled = [a for a in axes_of(summary) if a != x and a not in fixed
@@ -76,9 +78,10 @@ def curve(summary, metric, x="kernels", **fixed):
         raise ValueError(f"{metric}: the rows selected by {fixed} sweep {', '.join(pooled)}; "
                          "fix each (a facet per value) instead of pooling them")
     xs = np.array(axis_values(summary, x, mask))
+    spec = spec or spec_of(metric, summary)
     estimates, lows, highs = [], [], []
     for value in xs:
-        e, lo, hi = metric_ci(summary[metric][mask & (summary[x] == value)], metric)
+        e, lo, hi = metric_ci(summary[metric][mask & (summary[x] == value)], metric, spec=spec)
         estimates.append(e)
         lows.append(lo)
         highs.append(hi)

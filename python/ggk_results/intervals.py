@@ -10,6 +10,8 @@ Which interval fits a metric depends on what one run contributes:
     runs. Wilson on such a fraction would treat each run as one trial (all
     zeros over 4 runs would give [0, 49 %]); pooling the episodes with Wilson
     would ignore that episodes of one run share its policy.
+A results file declares each metric's kind and range (metric_specs.py); every
+interval is intersected with the range, as `ggk info` does.
 """
 
 import math
@@ -18,19 +20,24 @@ import warnings
 import numpy as np
 from scipy import stats
 
+from .metric_specs import legacy_spec
+
 CONFIDENCE = 0.95
 # Metrics that are one 0/1 outcome per run (a fit's test from one named start).
 INDICATORS = ("success_from_A",)
 
 
 def is_indicator(metric):
-    """True for a metric that is one 0/1 success outcome per run."""
+    """True for a metric that files without declarations (legacy_spec) read as
+    one 0/1 success outcome per run. A file's own: its metric_specs."""
     return metric in INDICATORS or metric.startswith("success_from_")
 
 
 def is_rate(metric):
-    """A rate or fraction in [0, 1] (success_rate, success_from_A, collision_fraction)."""
-    return metric.startswith("success") or "rate" in metric or "fraction" in metric
+    """True for a metric that files without declarations read as a share in
+    [0, 1] (success_rate, success_from_A, collision_fraction). A file's own:
+    its metric_specs."""
+    return legacy_spec(metric).kind in ("fraction", "indicator")
 
 
 def finite(values):
@@ -63,19 +70,26 @@ def wilson_ci(successes, trials, confidence=CONFIDENCE):
     return successes / trials, float(interval.low), float(interval.high)
 
 
-def metric_ci(values, metric="", confidence=CONFIDENCE):
-    """(estimate, low, high) of one sweep point's values over runs: Wilson's
-    interval for a 0/1 indicator metric (is_indicator), else Student's t, with
-    a rate's bounds clipped to [0, 1]."""
+def metric_ci(values, metric="", confidence=CONFIDENCE, spec=None):
+    """(estimate, low, high) of one sweep point's values over runs, by the
+    metric's declaration `spec` (metric_specs.MetricSpec: a file's, e.g.
+    Results.metric_specs[metric]; without one, legacy_spec(metric)): Wilson's
+    interval for an indicator (one 0/1 outcome per run), else Student's t;
+    either intersected with the metric's range [low, high], which keeps the
+    interval's coverage (the mean lies in the range), as `ggk info` does."""
+    spec = spec or legacy_spec(metric)
     values = finite(values)
-    if is_indicator(metric):
+    if spec.kind == "indicator":
         if not np.all((values == 0) | (values == 1)):
-            raise ValueError(f"{metric}: an indicator metric holds values other than 0 and 1")
+            raise ValueError(f"{spec.name}: an indicator metric holds values other than 0 and 1")
         return wilson_ci(int(values.sum()), len(values), confidence)
     mean, low, high = mean_ci(values, confidence)
-    if is_rate(metric):
-        low, high = max(0.0, low), min(1.0, high)
-    return mean, low, high
+    return mean, clip(low, spec.low, spec.high), clip(high, spec.low, spec.high)
+
+
+def clip(value, low, high):
+    """value within [low, high]; NaN stays NaN."""
+    return value if math.isnan(value) else min(max(value, low), high)
 
 
 def paired_t_ci(a, b, confidence=CONFIDENCE):

@@ -28,7 +28,8 @@ import numpy as np
 
 from .figures import (axes_of, axis_values, curve, error_bars, facet_title, facets, legend_below,
                       value_text)
-from .intervals import is_indicator, is_rate
+from .intervals import is_rate
+from .metric_specs import is_share, legacy_spec, read_metric_specs
 from .tables import open_file, read_summary_table, select_where, task_of, text
 
 # The bases' colour, marker and name in every figure.
@@ -56,12 +57,16 @@ def job_settings(path):
         return tomllib.loads(text(f.attrs["job_resolved"]))
 
 
-def metric_range(metric, task=None, job=None):
-    """(low, high): the values `metric` can take, None where unknown. Rates and
-    fractions are in [0, 1]; with the job's settings (job_settings) step counts
-    are in [0, test_max_steps] and the Khepera's return in [collision reward,
-    forward reward x test_max_steps] (+1 per forward move, an episode stopped by
-    its first collision)."""
+def metric_range(metric, task=None, job=None, spec=None):
+    """(low, high): the values `metric` can take, None where unknown: the
+    metric's declaration `spec` (a file's metric_specs) where it has one. For a
+    file written before the declarations: rates and fractions in [0, 1]; with
+    the job's settings (job_settings) step counts in [0, test_max_steps] and the
+    Khepera's return in [collision reward, forward reward x test_max_steps] (+1
+    per forward move, an episode stopped by its first collision)."""
+    if spec is not None:
+        return (spec.low if math.isfinite(spec.low) else None,
+                spec.high if math.isfinite(spec.high) else None)
     if is_rate(metric):
         return 0.0, 1.0
     steps = (job or {}).get(f"{task}.test_max_steps")
@@ -76,13 +81,16 @@ def metric_range(metric, task=None, job=None):
     return None, None
 
 
-def metric_label(metric):
-    """The y label of a metric: its name, its unit and its interval."""
-    if is_indicator(metric):
+def metric_label(metric, spec=None):
+    """The y label of a metric: its name, its unit and its interval, by its
+    declaration (else legacy_spec's)."""
+    spec = spec or legacy_spec(metric)
+    if spec.kind == "indicator":
         return f"{metric} (% of runs, Wilson 95 % CI)"
-    if is_rate(metric):
+    if is_share(spec):
         return f"{metric} (%, t 95 % CI)"
-    return f"{metric} (t 95 % CI)"
+    unit = f" [{spec.unit}]" if spec.unit and spec.unit != "1" else ""
+    return f"{metric}{unit} (t 95 % CI)"
 
 
 def hue_axes(hue):
@@ -176,7 +184,7 @@ def curve_style(hue, values, index_of):
     return colour, marker, style, ", ".join(parts)
 
 
-def draw_panel(ax, summary, metric, x, hue, facet, scale, value_range):
+def draw_panel(ax, summary, metric, x, hue, facet, scale, value_range, spec=None):
     """One panel: a dodged curve with error bars per hue combination present in
     the facet's rows, and the y limits."""
     mask = np.ones(len(summary["run"]), dtype=bool)
@@ -193,7 +201,8 @@ def draw_panel(ax, summary, metric, x, hue, facet, scale, value_range):
     place = {v: i for i, v in enumerate(axis_values(summary, x))}
     curves = []
     for values in combos:
-        xs, est, low, high = curve(summary, metric, x=x, **facet, **dict(zip(hue, values)))
+        xs, est, low, high = curve(summary, metric, x=x, spec=spec, **facet,
+                                   **dict(zip(hue, values)))
         if len(xs):
             positions = np.array([place[v] for v in xs] if categorical else xs, dtype=float)
             curves.append((values, positions, est, low, high))
@@ -240,13 +249,14 @@ def plot_metric(source, metric, x="kernels", hue="basis", where=(), axes=None,
     title:  text before each panel's configuration (e.g. "maze").
     Rates and fractions are drawn in percent. Refuses (ValueError) an unknown
     metric or axis."""
-    task, job = None, {}
+    task, job, specs = None, {}, {}
     if isinstance(source, dict):
         summary = source
     else:
         with open_file(source) as f:
             task = task_of(f)
             summary = read_summary_table(f, task).columns
+            specs = read_metric_specs(f, task)
         job = job_settings(source)
     if where:
         summary, _ = select_where(summary, list(where))
@@ -259,9 +269,10 @@ def plot_metric(source, metric, x="kernels", hue="basis", where=(), axes=None,
             raise ValueError(f"no axis {axis!r} (the file's: {', '.join(axes_of(summary))})")
     # A further hue axis with one value tells no curves apart: the titles name it.
     hue = hue[:1] + tuple(a for a in hue[1:] if len(axis_values(summary, a)) > 1)
+    spec = specs.get(metric)  # the file's declaration (None: a summary, an older file)
     if value_range is None:
-        value_range = metric_range(metric, task, job)
-    scale = 100.0 if is_rate(metric) else 1.0
+        value_range = metric_range(metric, task, job, spec)
+    scale = 100.0 if is_share(spec or legacy_spec(metric)) else 1.0
     panels = metric_panels(summary, x, hue)
     if axes is None:
         import matplotlib.pyplot as plt  # only here: a caller with its own axes needs no pyplot
@@ -279,14 +290,14 @@ def plot_metric(source, metric, x="kernels", hue="basis", where=(), axes=None,
         fig = axes[0].figure
     shown = (x, *hue)
     for ax, facet in zip(axes, panels):
-        draw_panel(ax, summary, metric, x, hue, facet, scale, value_range)
+        draw_panel(ax, summary, metric, x, hue, facet, scale, value_range, spec)
         configuration = panel_configuration(summary, facet, shown)
         heading = ", ".join(t for t in (title, configuration) if t)
         # "3 runs, 95 % CI" on one line: no-break spaces (textwrap breaks at ASCII ones).
         tail = f"{runs_text(summary, facet, shown)}, 95 % CI".replace(" ", "\u00a0")
         ax.set_title(textwrap.fill("; ".join(t for t in (heading, tail) if t), 70), fontsize=9)
         ax.set_xlabel("number of kernels" if x == "kernels" else x)
-        ax.set_ylabel(ylabel or metric_label(metric))
+        ax.set_ylabel(ylabel or metric_label(metric, spec))
         ax.grid(alpha=0.3)
         if legend:
             legend_below(ax)

@@ -5,7 +5,8 @@ and centres), per point of the other axes."""
 import numpy as np
 import pandas as pd
 
-from .intervals import CONFIDENCE, is_indicator, newcombe_paired_ci, paired_t_ci
+from .intervals import CONFIDENCE, clip, newcombe_paired_ci, paired_t_ci
+from .metric_specs import spec_of
 
 # The columns that pair two rows besides `by`: the run and, in a study with
 # run-level axes, its configuration (unless the compared axis is run-level).
@@ -13,15 +14,18 @@ PAIRING = ("run", "configuration")
 
 
 def paired(frame, metric, compare="basis", a="ggk", b="ogk", by=("kernels",),
-           confidence=CONFIDENCE, method=None):
+           confidence=CONFIDENCE, method=None, spec=None):
     """One row per group of `by`: the mean of `metric` under compare == a and
     under compare == b, their difference a - b paired by run, its interval and
     the number of pairs.
 
-    The interval is scipy's ttest_rel interval of the mean difference, or for a
-    0/1 indicator metric (success_from_A) Newcombe's paired score interval of
-    the difference of the two success rates; `method` ("t" or "newcombe")
-    overrides the choice. Runs that lack either side, or whose metric is NaN on
+    The interval is scipy's ttest_rel interval of the mean difference, within
+    +-(high - low) of the metric's range, or for a 0/1 indicator metric
+    (success_from_A) Newcombe's paired score interval of the difference of the
+    two success rates; `method` ("t" or "newcombe") overrides the choice. The
+    kind and range are the metric's declaration: `spec`, else the one
+    frame.attrs["metric_specs"] holds (Results.summary()'s), else
+    metric_specs.legacy_spec's. Runs that lack either side, or whose metric is NaN on
     either side, are left out.
 
     Refuses (ValueError, naming the axes) to pair rows when some column other
@@ -31,7 +35,9 @@ def paired(frame, metric, compare="basis", a="ggk", b="ogk", by=("kernels",),
     Columns: the `by` columns, a, b (means over the pairs), difference, low,
     high, pairs, method."""
     by = [by] if isinstance(by, str) else list(by)
-    method = method or ("newcombe" if is_indicator(metric) else "t")
+    spec = spec or spec_of(metric, frame)
+    method = method or ("newcombe" if spec.kind == "indicator" else "t")
+    width = spec.high - spec.low  # a difference of two values in the range lies in +-width
     if method not in ("t", "newcombe"):
         raise ValueError(f"paired: method {method!r} is not 't' or 'newcombe'")
     for column in [metric, compare, "run"] + by:
@@ -72,6 +78,7 @@ def paired(frame, metric, compare="basis", a="ggk", b="ogk", by=("kernels",),
             difference, low, high = newcombe_paired_ci(x, y, confidence)
         else:
             difference, low, high = paired_t_ci(x, y, confidence)
+            low, high = clip(low, -width, width), clip(high, -width, width)
         rows.append(dict(zip(by, point), a=x.mean() if len(x) else np.nan,
                          b=y.mean() if len(y) else np.nan, difference=difference, low=low,
                          high=high, pairs=len(x), method=method))

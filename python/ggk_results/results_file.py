@@ -7,6 +7,7 @@ files alike: without /<task>/summary the rows come from the complete runs
 import pandas as pd
 
 from .fits import Fit, find_fit_group, fit_point, read_fit
+from .metric_specs import read_metric_specs, spec_of
 from .runs import run_path
 from .tables import open_file, read_summary_table, task_of, text
 
@@ -17,7 +18,9 @@ class Results:
     path, task; axes (the sweep axes, then a study's); study_axes; metrics (the
     columns after `status`); complete (False: read from the complete runs,
     the file has no summary yet); runs (the complete runs' group paths);
-    attrs (the root attributes: job, job_resolved, ggk_version, ...)."""
+    attrs (the root attributes: job, job_resolved, ggk_version, ...);
+    metric_specs (each metric's declaration by name: kind, unit, meaning,
+    low, high; metric_specs.py; {} for a file written before them)."""
 
     def __init__(self, path, task=None):
         self.path = str(path)
@@ -26,6 +29,7 @@ class Results:
             self.attrs = {k: text(v) if isinstance(v, (bytes, str)) else v
                           for k, v in f.attrs.items()}
             table = read_summary_table(f, self.task)
+            self.metric_specs = read_metric_specs(f, self.task)
         self._columns = table.columns
         self.study_axes = table.study_axes
         self.axes = table.axes
@@ -39,8 +43,16 @@ class Results:
 
     def summary(self):
         """One row per fit (run, sweep_point, the axes, status, metrics), strings
-        as str, so that df[df.basis == "ggk"] selects rows."""
-        return pd.DataFrame({name: column for name, column in self._columns.items()})
+        as str, so that df[df.basis == "ggk"] selects rows. Its
+        attrs["metric_specs"] holds the metrics' declarations, which paired(),
+        curve() and plot_metric read."""
+        frame = pd.DataFrame({name: column for name, column in self._columns.items()})
+        frame.attrs["metric_specs"] = dict(self.metric_specs)
+        return frame
+
+    def metric_spec(self, metric):
+        """The declaration of one metric (metric_specs.spec_of)."""
+        return spec_of(metric, self.metric_specs)
 
     def dims(self):
         """The named dimensions of dataset(): run, then every axis."""
@@ -50,7 +62,9 @@ class Results:
         """The metrics (default: all, with status) as an xarray Dataset over
         dims() with the axis values as coordinates, e.g.
         ds.success_rate.sel(basis="ggk", kernels=16).mean("run"). Points
-        without a row (a partial file) are NaN."""
+        without a row (a partial file) are NaN. Each metric's variable carries
+        its declaration as attrs: units, long_name (its meaning), kind and
+        valid_range [low, high]."""
         frame = self.summary()
         dims = self.dims()
         if frame.empty:
@@ -64,6 +78,11 @@ class Results:
                            f"(metrics: {', '.join(self.metrics)})")
         dataset = frame.set_index(dims)[names].to_xarray()
         dataset.attrs.update(path=self.path, task=self.task, complete=int(self.complete))
+        for name in names:
+            if name in self.metric_specs:  # xarray's plots label themselves with these
+                spec = self.metric_specs[name]
+                dataset[name].attrs.update(units=spec.unit, long_name=spec.meaning,
+                                           kind=spec.kind, valid_range=[spec.low, spec.high])
         return dataset
 
     def data_array(self, metric):

@@ -102,6 +102,8 @@ ContinuousEnvironment environment(const AcrobotTask& task) {
   env.new_episode = [&task] { return std::make_unique<AcrobotEpisode>(task); };
   env.trace_dimension = 4;  // theta1, theta2, theta1', theta2'
   env.ended_metric = kEnded;
+  env.reward_low = -1.0;  // -1 a step, 0 at the end
+  env.reward_high = 0.0;
   return env;
 }
 
@@ -112,7 +114,7 @@ ContinuousSizes sizes(const AcrobotTask&) {
 }  // namespace
 
 TaskDefinition acrobot_task_definition() {
-  return continuous_task_definition<parse_table, environment, sizes, kEnded>("acrobot");
+  return continuous_task_definition<parse_table, environment, sizes>("acrobot");
 }
 
 }  // namespace ggk::engine

@@ -10,6 +10,19 @@
 
 namespace ggk::engine {
 
+namespace {
+// The paper's start A (Fig. 1(a)): the metrics success_from_A, steps_from_A.
+const std::string kArmStartName = "A";
+
+DiscreteProtocol arm_protocol(const sims::arm::ArmConfig& config) {
+  // The walk goes on through goals so that all 16 goals join the graph and become
+  // the first centres, as in the paper (a restart at each goal leaves ~9 of them
+  // unvisited: the inner goal cells are only reachable through other goals).
+  return {config.series, config.steps_per_series, config.test_max_steps,
+          /*walk_through_goals=*/true};
+}
+}  // namespace
+
 DiscreteEnvironment arm_environment(const sims::arm::Arm& arm) {
   DiscreteEnvironment env;
   env.num_states = arm.num_states();
@@ -22,7 +35,7 @@ DiscreteEnvironment arm_environment(const sims::arm::Arm& arm) {
   for (std::int32_t s = 0; s < arm.num_states(); ++s) {
     if (!arm.is_goal(s)) env.start_states.push_back(s);
   }
-  env.named_starts = {{"A", arm.start_state_A()}};
+  env.named_starts = {{kArmStartName, arm.start_state_A()}};
   env.step = [&arm](std::int32_t state, std::int32_t action, kernels::RandomStream&) {
     const sims::arm::StepResult r = arm.step(state, action);
     return Transition{r.next_state, r.reward, r.terminal};
@@ -78,12 +91,7 @@ RunRecord run_arm(const sims::arm::ArmConfig& config, const JobSpec& job, std::i
                   std::span<const SweepPoint> points) {
   const sims::arm::Arm arm(config);
   const DiscreteEnvironment env = arm_environment(arm);
-  // The walk goes on through goals so that all 16 goals join the graph and become
-  // the first centres, as in the paper (a restart at each goal leaves ~9 of them
-  // unvisited: the inner goal cells are only reachable through other goals).
-  const DiscreteProtocol protocol{config.series, config.steps_per_series, config.test_max_steps,
-                                  /*walk_through_goals=*/true};
-  RunRecord record = run_discrete_protocol(env, protocol, job, run, points);
+  RunRecord record = run_discrete_protocol(env, arm_protocol(config), job, run, points);
 
   const std::int64_t rows = arm.shoulder_steps(), cols = arm.elbow_steps();
   NamedArray state_of{"grid/state_of", {rows, cols}, {}, ElementType::kInt32};
@@ -111,9 +119,7 @@ RunMemoryEstimate estimate_arm_run(const sims::arm::ArmConfig& config, const Job
   // The grid of state ids and per state its cell and goal flag.
   sizes.simulator_bytes = 4.0 * cells + 9.0 * arm.num_states();
   sizes.states_are = "free poses of the arm";
-  const DiscreteProtocol protocol{config.series, config.steps_per_series, config.test_max_steps,
-                                  /*walk_through_goals=*/true};
-  RunMemoryEstimate estimate = estimate_discrete_run(sizes, protocol, job);
+  RunMemoryEstimate estimate = estimate_discrete_run(sizes, arm_protocol(config), job);
   // grid/state_of and grid/goal in the record (doubles, grown by doubling).
   const double grid = 2.0 * 2.0 * 8.0 * cells;
   // The workspace arrays for Fig. 1(a): obstacles, object, pose A, the goals'
@@ -136,7 +142,11 @@ TaskDefinition arm_task_definition() {
           [](const JobSpec& job) {
             return estimate_arm_run(task_config_as<sims::arm::ArmConfig>(job), job);
           },
-          discrete_metric_kind};
+          [](const JobSpec& job) {
+            const std::string named_starts[] = {kArmStartName};
+            return discrete_metric_specs({}, named_starts,
+                                         arm_protocol(task_config_as<sims::arm::ArmConfig>(job)));
+          }};
 }
 
 }  // namespace ggk::engine

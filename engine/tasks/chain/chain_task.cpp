@@ -7,8 +7,10 @@ namespace ggk::engine {
 namespace chain = sims::chain;
 using OptimalActions = std::vector<std::array<bool, chain::kNumActions>>;
 
-MetricKind chain_metric_kind(std::string_view metric) {
-  return metric == "optimal_action_fraction" ? MetricKind::kFraction : MetricKind::kMean;
+std::vector<MetricSpec> chain_policy_metrics() {
+  return {tested(fraction_metric("optimal_action_fraction",
+                                 "share of the states whose greedy action is optimal (value "
+                                 "iteration on the exact model)"))};
 }
 
 DiscreteEnvironment chain_environment(const chain::Chain& chain, const OptimalActions& optimal) {
@@ -23,7 +25,7 @@ DiscreteEnvironment chain_environment(const chain::Chain& chain, const OptimalAc
     const chain::StepResult r = chain.step(state, action, random);
     return Transition{r.next_state, r.reward, false};
   };
-  env.policy_metrics = {{"optimal_action_fraction", MetricKind::kFraction, true}};
+  env.policy_metrics = chain_policy_metrics();
   env.test_policy = [&optimal](const std::vector<std::int32_t>& policy, FitMetrics& metrics) {
     double optimal_states = 0.0;
     for (std::size_t s = 0; s < optimal.size(); ++s) {
@@ -73,7 +75,10 @@ TaskDefinition chain_task_definition() {
               std::vector<JobInput>&) -> std::any { return parse_chain_table(job); }},
           run_chain,
           estimate_chain_run,
-          chain_metric_kind};
+          [](const JobSpec& job) {
+            return discrete_metric_specs(chain_policy_metrics(), {},
+                                         chain_protocol(task_config_as<chain::ChainConfig>(job)));
+          }};
 }
 
 }  // namespace ggk::engine

@@ -13,9 +13,9 @@
 
 namespace ggk::engine {
 
-// Its metrics: optimal_action_fraction (a fraction of the states, tested: in the
-// iteration history too), then graph_metric_specs(); no goal columns.
-MetricKind chain_metric_kind(std::string_view metric);
+// Its test's metric: optimal_action_fraction (a fraction of the states, tested:
+// in the iteration history too); graph_metric_specs() follow it, no goal columns.
+std::vector<MetricSpec> chain_policy_metrics();
 
 // The environment view of `chain` (which must outlive it), its metric tested
 // against `optimal` (Chain::optimal_actions, also outliving it).

@@ -60,6 +60,16 @@ ContinuousEnvironment khepera_environment(const khepera::Khepera& robot) {
   env.new_episode = [&robot] { return std::make_unique<KheperaEpisode>(robot); };
   env.trace_dimension = 3;  // x, y, heading
   env.ended_metric = "collision_fraction";
+  const khepera::Rewards rewards = robot.config().rewards;  // 0: a turn or a backward step
+  env.reward_low = std::min({0.0, rewards.forward, rewards.collision});
+  env.reward_high = std::max({0.0, rewards.forward, rewards.collision});
+  // A collision stops the episode: at most one, after at most steps - 1 others.
+  env.return_range = [rewards](std::int32_t steps) {
+    const double others = std::max(steps - 1, 0);
+    return std::pair{std::min(0.0, rewards.collision) + others * std::min(0.0, rewards.forward),
+                     others * std::max(0.0, rewards.forward) +
+                         std::max({0.0, rewards.forward, rewards.collision})};
+  };
   env.stop_flags_array = "samples/collisions";
   env.run_arrays = arena_arrays(robot);
   env.store_scale = false;  // raw readings (khepera_task_config.hpp)
@@ -68,26 +78,22 @@ ContinuousEnvironment khepera_environment(const khepera::Khepera& robot) {
 
 }  // namespace
 
-const std::vector<MetricSpec>& khepera_metric_specs() {
-  static const std::vector<MetricSpec> specs = [] {
-    ContinuousEnvironment env;
-    env.ended_metric = "collision_fraction";
-    return continuous_metric_specs(env);
-  }();
-  return specs;
+std::vector<MetricSpec> khepera_metric_specs(const KheperaTaskConfig& config) {
+  const khepera::Khepera robot(config.simulator);
+  return continuous_metric_specs(khepera_environment(robot), config.protocol);
 }
 
 const std::vector<std::string>& khepera_metric_names() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> result;
-    for (const MetricSpec& spec : khepera_metric_specs()) result.push_back(spec.name);
+    ContinuousEnvironment env;
+    env.ended_metric = "collision_fraction";
+    for (const MetricSpec& spec : continuous_metric_specs(env, ContinuousProtocol{})) {
+      result.push_back(spec.name);
+    }
     return result;
   }();
   return names;
-}
-
-MetricKind khepera_metric_kind(std::string_view metric) {
-  return declared_kind(khepera_metric_specs(), metric);
 }
 
 RunRecord run_khepera(const KheperaTaskConfig& config, const JobSpec& job, std::int32_t run,
@@ -121,7 +127,9 @@ TaskDefinition khepera_task_definition() {
           [](const JobSpec& job) {
             return estimate_khepera_run(task_config_as<KheperaTaskConfig>(job), job);
           },
-          khepera_metric_kind};
+          [](const JobSpec& job) {
+            return khepera_metric_specs(task_config_as<KheperaTaskConfig>(job));
+          }};
 }
 
 }  // namespace ggk::engine

@@ -29,9 +29,8 @@ namespace ggk::engine {
 // between the units' prototypes, and the kernel gap runs over every reading of
 // the walks, GGK in its continuous form ED(s, n(s)) + SP(n(s), c) with n(s) the
 // reading's best-matching unit.
-const std::vector<MetricSpec>& khepera_metric_specs();
-const std::vector<std::string>& khepera_metric_names();
-MetricKind khepera_metric_kind(std::string_view metric);
+std::vector<MetricSpec> khepera_metric_specs(const KheperaTaskConfig& config);
+const std::vector<std::string>& khepera_metric_names();  // the same for any job
 
 // The walks' readings and samples in their copies, the SOM, the unit graph and
 // distances, per fit the kernel table over every reading and the LSPI system,

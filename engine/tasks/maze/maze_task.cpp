@@ -57,7 +57,12 @@ TaskDefinition maze_task_definition() {
           [](const JobSpec& job) {
             return estimate_maze_run(task_config_as<sims::maze::MazeConfig>(job), job);
           },
-          discrete_metric_kind};
+          [](const JobSpec& job) {
+            const auto& config = task_config_as<sims::maze::MazeConfig>(job);
+            const DiscreteProtocol protocol{config.series, config.steps_per_series,
+                                            config.test_max_steps};
+            return discrete_metric_specs({}, {}, protocol);  // the goal test, no named start
+          }};
 }
 
 }  // namespace ggk::engine

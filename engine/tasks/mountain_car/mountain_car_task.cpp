@@ -91,6 +91,8 @@ ContinuousEnvironment environment(const MountainCarTask& task) {
   env.new_episode = [&task] { return std::make_unique<MountainCarEpisode>(task); };
   env.trace_dimension = 2;
   env.ended_metric = kEnded;
+  env.reward_low = -1.0;  // -1 a step
+  env.reward_high = -1.0;
   return env;
 }
 
@@ -101,7 +103,7 @@ ContinuousSizes sizes(const MountainCarTask&) {
 }  // namespace
 
 TaskDefinition mountain_car_task_definition() {
-  return continuous_task_definition<parse_table, environment, sizes, kEnded>("mountain_car");
+  return continuous_task_definition<parse_table, environment, sizes>("mountain_car");
 }
 
 }  // namespace ggk::engine

@@ -119,6 +119,8 @@ ContinuousEnvironment environment(const PendulumTask& task) {
   env.new_episode = [&task] { return std::make_unique<PendulumEpisode>(task); };
   env.trace_dimension = 2;
   env.ended_metric = kEnded;
+  env.reward_low = -1.0;  // -1 when it falls, else 0
+  env.reward_high = 0.0;
   return env;
 }
 
@@ -132,7 +134,7 @@ ContinuousSizes sizes(const PendulumTask&) {
 }  // namespace
 
 TaskDefinition pendulum_task_definition() {
-  return continuous_task_definition<parse_table, environment, sizes, kEnded>("pendulum");
+  return continuous_task_definition<parse_table, environment, sizes>("pendulum");
 }
 
 }  // namespace ggk::engine

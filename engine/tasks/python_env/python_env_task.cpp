@@ -369,7 +369,7 @@ ContinuousSizes sizes(const PythonEnvTask& task) {
 }  // namespace
 
 TaskDefinition python_env_task_definition() {
-  return continuous_task_definition<parse_table, environment, sizes, kEnded>("python_env");
+  return continuous_task_definition<parse_table, environment, sizes>("python_env");
 }
 
 }  // namespace ggk::engine

@@ -34,7 +34,7 @@ looks)
   # The runs the rule asked for, and no more.
   wanted=$(sed -n 's/.*runs per configuration \([0-9, ]*\) (\([0-9]*\) of.*/\2/p' "$scratch/cells")
   [ -n "$wanted" ] && [ "$wanted" -lt 120 ] || fail "runs per configuration: $(cat "$scratch/cells")"
-  "$GGK" info "$scratch/a.h5" | grep -q "^runs:     $wanted of 120 complete" ||
+  "$GGK" info "$scratch/a.h5" | grep "^runs:     $wanted of 120 complete" >/dev/null ||
     fail "the file holds other runs than $wanted: $("$GGK" info "$scratch/a.h5" | grep runs:)"
   "$GGK" run "$job" -q -j 1 -o "$scratch/b.h5"
   "$GGK" diff "$scratch/a.h5" "$scratch/b.h5" >/dev/null || fail "-j 1 differs from -j 2"
@@ -56,7 +56,7 @@ resume)
   "$GGK" diff "$scratch/ref.h5" "$out" >/dev/null || fail "the resumed study differs"
   # Capped at 10 runs: every cell capped or decided within 10; then grown.
   "$GGK" run "$job" -q --set runs=10 -o "$scratch/grown.h5"
-  "$GGK" info --adaptive "$scratch/grown.h5" | grep -q "capped" || fail "runs = 10 capped nothing"
+  "$GGK" info --adaptive "$scratch/grown.h5" | grep "capped" >/dev/null || fail "runs = 10 capped nothing"
   "$GGK" run "$job" -q --resume -o "$scratch/grown.h5"
   "$GGK" diff "$scratch/ref.h5" "$scratch/grown.h5" >/dev/null || fail "the grown study differs"
   ;;

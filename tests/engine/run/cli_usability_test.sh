@@ -130,16 +130,23 @@ assert len(rows) == 4, rows                       # 2 bases x 2 kernel counts
 assert {r["basis"] for r in rows} == {"ggk", "ogk"}
 assert {r["lambda"] for r in rows} == {"1e-06"}
 for r in rows:
-    assert int(r["fits"]) == 2 and int(r["failed"]) >= 0 and int(r["max_iterations"]) >= 0
+    # The counts never take an axis's name (lspi.max_iterations is one).
+    assert int(r["fits"]) == 2 and int(r["fits_failed"]) >= 0 and int(r["fits_capped"]) >= 0
+    assert "max_iterations" not in r, r.keys()
     low, mean, high = (float(r[k]) for k in
                        ("success_rate_ci_low", "success_rate", "success_rate_ci_high"))
     assert 0.0 <= low <= mean <= high <= 1.0, r
 PY
   # The text form: the CI and the fits that stopped at the iteration cap.
   "$GGK" info "$scratch/r.h5" >"$scratch/info.txt"
-  grep -qE "summary: +8 fits \([0-9]+ failed, [0-9]+ stopped at max_iterations\)" "$scratch/info.txt" ||
-    fail "info: $(cat "$scratch/info.txt")"
-  grep -qE "max_it" "$scratch/info.txt" || fail "info: no max_it column"
+  grep -qE "summary: +8 fits \([0-9]+ failed, [0-9]+ capped: stopped at lspi.max_iterations\)" \
+    "$scratch/info.txt" || fail "info: $(cat "$scratch/info.txt")"
+  grep -qE " capped " "$scratch/info.txt" || fail "info: no capped column"
+  # The legend: each metric's unit, range and interval from the file's metric_specs.
+  grep -qE "^  success_rate +\[1\] +\[0, 1\] +Student t within the range +share of the start states" \
+    "$scratch/info.txt" || fail "info: no legend line for success_rate: $(cat "$scratch/info.txt")"
+  grep -qE "^  fit_seconds +\[s\] +\[0, inf\)" "$scratch/info.txt" ||
+    fail "info: no legend line for fit_seconds"
   grep -qE "\[[-0-9.e]+, [-0-9.e]+\]" "$scratch/info.txt" || fail "info: no interval"
   ;;
 overrides)

@@ -23,6 +23,7 @@ ResultsContents contents_of(std::int32_t configurations, std::int32_t runs,
   ResultsContents contents;
   contents.axis_names = {"basis", "kernels", "slip"};
   contents.metric_names = {"success_rate", "fit_seconds"};
+  contents.metric_specs = {fraction_metric("success_rate", ""), fit_seconds_spec()};
   contents.configurations = static_cast<std::size_t>(configurations);
   for (std::int32_t c = 0; c < configurations; ++c) {
     for (std::int32_t r = 0; r < runs; ++r) {
@@ -48,18 +49,20 @@ AdaptiveRule rule_of(std::int32_t batch) {
   return rule;
 }
 
-MetricKind fraction(std::string_view) {
-  return MetricKind::kFraction;
+// The same contents with every metric declared a mean (no range known).
+ResultsContents as_means(ResultsContents contents) {
+  for (MetricSpec& spec : contents.metric_specs) spec.kind = MetricKind::kMean;
+  return contents;
 }
 
 TEST(AdaptiveState, LookOneAsksForABatchOfEveryConfiguration) {
-  const AdaptiveState empty = adaptive_state({}, rule_of(5), 2, 40, fraction);
+  const AdaptiveState empty = adaptive_state({}, rule_of(5), 2, 40);
   EXPECT_EQ(empty.runs_wanted, (std::vector<std::int32_t>{5, 5}));
   EXPECT_FALSE(empty.done);
   // Three runs of five: the look goes on, nothing is judged beyond them.
   const ResultsContents three = contents_of(
       2, 3, [](int, int) { return 1.0; }, [](int, int) { return 0.0; });
-  const AdaptiveState partial = adaptive_state(three, rule_of(5), 2, 40, fraction);
+  const AdaptiveState partial = adaptive_state(three, rule_of(5), 2, 40);
   EXPECT_EQ(partial.runs_wanted, (std::vector<std::int32_t>{5, 5}));
   EXPECT_EQ(partial.looks, 1);
   EXPECT_FALSE(partial.done);
@@ -73,7 +76,7 @@ TEST(AdaptiveState, AClearEffectIsDecidedAndStopsItsConfigurationOnly) {
   // configuration 1: the same success for both (never decided: capped).
   const auto a = [](int c, int r) { return c == 0 ? 1.0 : (r % 2 == 0 ? 0.75 : 0.25); };
   const auto b = [](int c, int r) { return c == 0 ? 0.0 : (r % 2 == 0 ? 0.25 : 0.75); };
-  const AdaptiveState state = adaptive_state(contents_of(2, 40, a, b), rule_of(5), 2, 40, fraction);
+  const AdaptiveState state = adaptive_state(contents_of(2, 40, a, b), rule_of(5), 2, 40);
   ASSERT_TRUE(state.done);
   ASSERT_EQ(state.cells.size(), 2u);
   EXPECT_DOUBLE_EQ(state.cell_level, 1.0 - 0.05 / 2.0);  // Bonferroni over 2 cells
@@ -89,7 +92,7 @@ TEST(AdaptiveState, AClearEffectIsDecidedAndStopsItsConfigurationOnly) {
   // Decided one batch earlier than it was: runs_wanted[0] - 5 runs did not do.
   const std::int32_t decided_at = state.runs_wanted[0];
   const AdaptiveState earlier =
-      adaptive_state(contents_of(2, decided_at - 5, a, b), rule_of(5), 2, 40, fraction);
+      adaptive_state(contents_of(2, decided_at - 5, a, b), rule_of(5), 2, 40);
   EXPECT_EQ(earlier.cells[0].state, CellState::kOpen);
   // Runs beyond a look's are not judged: the state is that of the file's prefix.
   EXPECT_EQ(earlier.runs_wanted[0], decided_at);
@@ -98,16 +101,14 @@ TEST(AdaptiveState, AClearEffectIsDecidedAndStopsItsConfigurationOnly) {
 TEST(AdaptiveState, ANegativeEffectAndAWidthTarget) {
   const auto low = [](int, int r) { return r % 3 == 0 ? 0.2 : 0.1; };
   const auto high = [](int, int r) { return r % 3 == 0 ? 0.9 : 1.0; };
-  const AdaptiveState negative =
-      adaptive_state(contents_of(1, 60, low, high), rule_of(5), 1, 60, fraction);
+  const AdaptiveState negative = adaptive_state(contents_of(1, 60, low, high), rule_of(5), 1, 60);
   ASSERT_TRUE(negative.done);
   EXPECT_EQ(negative.cells[0].state, CellState::kNegative);
   EXPECT_LT(negative.cells[0].upper, 0.0);
   AdaptiveRule width = rule_of(5);
   width.target = AdaptiveTarget::kWidth;
   width.width = 1.0;
-  const AdaptiveState narrow =
-      adaptive_state(contents_of(1, 60, low, high), width, 1, 60, fraction);
+  const AdaptiveState narrow = adaptive_state(contents_of(1, 60, low, high), width, 1, 60);
   ASSERT_TRUE(narrow.done);
   EXPECT_EQ(narrow.cells[0].state, CellState::kNarrow);
   EXPECT_LT(narrow.cells[0].upper - narrow.cells[0].lower, 1.0);
@@ -115,8 +116,8 @@ TEST(AdaptiveState, ANegativeEffectAndAWidthTarget) {
 
 TEST(AdaptiveState, AFailedFitStopsItsCell) {
   const auto a = [](int, int r) { return r == 2 ? std::nan("") : 0.5; };
-  const AdaptiveState state = adaptive_state(contents_of(1, 5, a, [](int, int) { return 0.5; }),
-                                             rule_of(5), 1, 40, fraction);
+  const AdaptiveState state =
+      adaptive_state(contents_of(1, 5, a, [](int, int) { return 0.5; }), rule_of(5), 1, 40);
   EXPECT_TRUE(state.done);
   EXPECT_EQ(state.cells[0].state, CellState::kFailed);
 }
@@ -126,13 +127,12 @@ TEST(AdaptiveState, RefusesWhatItCannotJudge) {
       1, 5, [](int, int) { return 0.5; }, [](int, int) { return 0.5; });
   AdaptiveRule unknown = rule_of(5);
   unknown.metrics = {"succes_rate"};
-  EXPECT_THROW(adaptive_state(contents, unknown, 1, 40, fraction), UsageError);
-  const auto mean = [](std::string_view) { return MetricKind::kMean; };
-  EXPECT_THROW(adaptive_state(contents, rule_of(5), 1, 40, mean), UsageError);  // no range
+  EXPECT_THROW(adaptive_state(contents, unknown, 1, 40), UsageError);
+  EXPECT_THROW(adaptive_state(as_means(contents), rule_of(5), 1, 40), UsageError);  // no range
   AdaptiveRule narrow_range = rule_of(5);
   narrow_range.ranges = {{"success_rate", 0.0, 0.25}};  // 0.5 lies outside
   try {
-    adaptive_state(contents, narrow_range, 1, 40, mean);
+    adaptive_state(as_means(contents), narrow_range, 1, 40);
     FAIL() << "a value outside the range was accepted";
   } catch (const UsageError& e) {
     EXPECT_NE(std::string(e.what()).find("run 0 lies outside its range"), std::string::npos)
@@ -147,6 +147,7 @@ TEST(AdaptiveState, ADecidedCellKeepsItsVerdictWhileItsConfigurationGoesOn) {
   ResultsContents contents = contents_of(
       1, 30, [](int, int) { return 1.0; }, [](int, int) { return 0.0; });
   contents.metric_names = {"success_rate", "even", "fit_seconds"};
+  contents.metric_specs.insert(contents.metric_specs.begin() + 1, fraction_metric("even", ""));
   for (FitRow& row : contents.fits) {
     const bool ggk = row.key[0] == "ggk";
     const double even = (row.run % 2 == 0) == ggk ? 1.0 : 0.0;
@@ -154,7 +155,7 @@ TEST(AdaptiveState, ADecidedCellKeepsItsVerdictWhileItsConfigurationGoesOn) {
   }
   AdaptiveRule rule = rule_of(5);
   rule.metrics = {"success_rate", "even"};
-  const AdaptiveState state = adaptive_state(contents, rule, 1, 30, fraction);
+  const AdaptiveState state = adaptive_state(contents, rule, 1, 30);
   ASSERT_TRUE(state.done);
   ASSERT_EQ(state.cells.size(), 2u);
   EXPECT_EQ(state.runs_wanted[0], 30);
@@ -169,13 +170,12 @@ TEST(AdaptiveState, TheAsymptoticMethodNeedsNoRange) {
   const auto b = [](int, int r) { return 100.0 + (r % 2 == 0 ? 5.0 : -5.0); };
   AdaptiveRule rule = rule_of(5);
   rule.method = AdaptiveMethod::kAsymptotic;
-  const auto mean = [](std::string_view) { return MetricKind::kMean; };
-  const AdaptiveState state = adaptive_state(contents_of(1, 40, a, b), rule, 1, 40, mean);
+  const AdaptiveState state = adaptive_state(as_means(contents_of(1, 40, a, b)), rule, 1, 40);
   ASSERT_TRUE(state.done);
   EXPECT_EQ(state.cells[0].state, CellState::kPositive);
   EXPECT_LE(state.cells[0].runs, 10);
   // The bounded method refuses it: no range.
-  EXPECT_THROW(adaptive_state(contents_of(1, 40, a, b), rule_of(5), 1, 40, mean), UsageError);
+  EXPECT_THROW(adaptive_state(as_means(contents_of(1, 40, a, b)), rule_of(5), 1, 40), UsageError);
 }
 
 }  // namespace

@@ -1,7 +1,9 @@
 #include "engine/store/results_info.hpp"
 
 #include <cmath>
+#include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -10,6 +12,9 @@
 #include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/usage_error.hpp"
 #include "engine/run/job_runner.hpp"
+#include "engine/store/metric_specs_table.hpp"
+#include "engine/store/results_contents.hpp"
+#include "engine/store/run_store.hpp"
 #include "engine/tasks/task_list.hpp"
 #include "support/determinism_job.hpp"
 
@@ -41,16 +46,32 @@ TEST(ConfidenceIntervals, StudentTMatchesScipy) {
 // keeps Wilson.
 TEST(ConfidenceIntervals, AFractionPerRunIsAMeanAndAnOutcomePerRunIsWilson) {
   const std::vector<double> zeros(4, 0.0);
-  const Interval fraction = metric_interval(zeros, MetricKind::kFraction);
+  const MetricSpec share = fraction_metric("collision_fraction", "");
+  const Interval fraction = metric_interval(zeros, share);
   EXPECT_EQ(fraction.low, 0.0);
   EXPECT_EQ(fraction.high, 0.0);
-  const Interval outcome = metric_interval(zeros, MetricKind::kRate);
+  const Interval outcome = metric_interval(zeros, indicator_metric("success_from_A", ""));
   EXPECT_NEAR(outcome.high, 0.4899, 1e-4);  // scipy binomtest(0, 4).proportion_ci("wilson")
   const std::vector<double> shares = {0.1, 0.3, 0.0, 0.2};
-  const Interval clipped = metric_interval(shares, MetricKind::kFraction);
+  const Interval clipped = metric_interval(shares, share);
   EXPECT_NEAR(clipped.estimate, 0.15, 1e-12);
   EXPECT_EQ(clipped.low, 0.0);  // t's lower bound, -0.055, clipped
   EXPECT_NEAR(clipped.high, 0.15 + 3.1824 * std::sqrt(0.0166667 / 4), 1e-3);
+}
+
+// A bounded mean (steps of a 100-step cap) gets an interval inside its range:
+// Student's t alone gives [-38.2, 138.2] for these values ("mean_steps 136.2
+// [-39.6, 311.9]" of at most 150 was the report), intersected [0, 100]. An
+// unbounded mean keeps Student's t.
+TEST(ConfidenceIntervals, ABoundedMeanGetsAnIntervalInsideItsRange) {
+  const std::vector<double> steps = {1.0, 99.0, 3.0, 97.0};
+  const Interval bounded = metric_interval(steps, mean_metric("mean_steps", "steps", "", 0, 100));
+  EXPECT_EQ(bounded.estimate, 50.0);
+  EXPECT_EQ(bounded.low, 0.0);
+  EXPECT_EQ(bounded.high, 100.0);
+  const Interval free = metric_interval(steps, mean_metric("mean_return", "1", ""));
+  EXPECT_NEAR(free.low, 50.0 - 3.182446 * std::sqrt(3073.333333 / 4.0), 1e-3);
+  EXPECT_LT(free.low, -38.0);
 }
 
 // python/ggk_results/intervals.py's paired_t_ci and newcombe_paired_ci on the
@@ -116,10 +137,94 @@ TEST_F(ResultsInfoFileTest, AHugeAttributeIsCutToALine) {
     file.flush();
   }
   std::ostringstream out;
-  print_results_info(dir_ / "out.h5", out, InfoFormat::kText, metric_kind);
+  print_results_info(dir_ / "out.h5", out, InfoFormat::kText);
   EXPECT_LT(out.str().size(), 20'000u);
   EXPECT_NE(out.str().find("... (8000012 bytes))"), std::string::npos) << out.str().substr(0, 600);
   EXPECT_NE(out.str().find("runs:     3 of 3 complete"), std::string::npos);
+}
+
+// The file declares its metrics (metric_specs beside each run's fit_metrics and
+// beside the summary); info prints them as a legend and bounds the intervals by
+// them. A file without them (an older ggk's) is read by the legacy kinds, and
+// info says so.
+TEST_F(ResultsInfoFileTest, TheLegendComesFromTheFilesDeclarations) {
+  const JobSpec job = load_job("job.toml", test_support::determinism_job(dir_ / "out.h5"));
+  run_job(job, test_support::options_for(dir_ / "out.h5"));
+  {
+    const Hdf5File file = Hdf5File::open_read_only(dir_ / "out.h5");
+    const std::optional<std::vector<MetricSpec>> summary =
+        read_metric_specs(file, "/" + job.task + "/" + kMetricSpecsTable);
+    ASSERT_TRUE(summary.has_value());
+    EXPECT_EQ(summary->back().name, "fit_seconds");
+    const MetricSpec* success = find_metric_spec(*summary, "success_rate");
+    ASSERT_NE(success, nullptr);
+    EXPECT_EQ(success->kind, MetricKind::kFraction);
+    EXPECT_EQ(success->high, 1.0);
+    const ResultsContents contents = read_contents(file);
+    EXPECT_TRUE(contents.metrics_declared);
+    ASSERT_EQ(contents.metric_specs.size(), contents.metric_names.size());
+    for (std::size_t m = 0; m < contents.metric_names.size(); ++m) {
+      EXPECT_EQ(contents.metric_specs[m].name, contents.metric_names[m]);
+      EXPECT_FALSE(contents.metric_specs[m].meaning.empty()) << contents.metric_names[m];
+    }
+  }
+  std::ostringstream out;
+  print_results_info(dir_ / "out.h5", out, InfoFormat::kText);
+  EXPECT_NE(out.str().find("metrics:\n  success_rate "), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("[steps]"), std::string::npos) << out.str();
+  {
+    Hdf5File file = Hdf5File::open_read_write(dir_ / "out.h5");
+    file.remove("/" + job.task + "/" + kMetricSpecsTable);
+    for (std::int32_t run = 0; run < job.runs; ++run) {
+      file.remove(run_group(job.task, run) + "/" + kMetricSpecsTable);
+    }
+    file.flush();
+  }
+  std::ostringstream legacy;
+  print_results_info(dir_ / "out.h5", legacy, InfoFormat::kText);
+  EXPECT_NE(legacy.str().find("the file declares none"), std::string::npos) << legacy.str();
+  const Hdf5File file = Hdf5File::open_read_only(dir_ / "out.h5");
+  const ResultsContents contents = read_contents(file);
+  EXPECT_FALSE(contents.metrics_declared);
+  EXPECT_EQ(declared_kind(contents.metric_specs, "success_rate"), MetricKind::kFraction);
+}
+
+TEST(MetricSpecsTable, ReadsBackWhatItWritesAndRefusesAnUnknownKind) {
+  Hdf5File file = Hdf5File::create_in_memory("specs");
+  const std::vector<MetricSpec> specs = {
+      tested(fraction_metric("collision_fraction", "share of the episodes")),
+      indicator_metric("success_from_A", "1 when A reaches a goal"),
+      mean_metric("mean_return", "1", "summed rewards", -2.0, 300.0), fit_seconds_spec()};
+  write_metric_specs(file, "/t/metric_specs", specs);
+  const auto back = read_metric_specs(file, "/t/metric_specs");
+  ASSERT_TRUE(back.has_value());
+  ASSERT_EQ(back->size(), specs.size());
+  for (std::size_t m = 0; m < specs.size(); ++m) {
+    EXPECT_EQ((*back)[m].name, specs[m].name);
+    EXPECT_EQ((*back)[m].kind, specs[m].kind);
+    EXPECT_EQ((*back)[m].unit, specs[m].unit);
+    EXPECT_EQ((*back)[m].meaning, specs[m].meaning);
+    EXPECT_EQ((*back)[m].low, specs[m].low);
+    EXPECT_EQ((*back)[m].high, specs[m].high);
+  }
+  EXPECT_FALSE(read_metric_specs(file, "/t/none").has_value());
+  file.create_table("/t/bad", std::vector<TableColumn>{{"name", ColumnType::kString},
+                                                       {"kind", ColumnType::kString},
+                                                       {"unit", ColumnType::kString},
+                                                       {"meaning", ColumnType::kString},
+                                                       {"low", ColumnType::kFloat64},
+                                                       {"high", ColumnType::kFloat64}});
+  file.append_rows("/t/bad", std::vector<TableRow>{{std::string("m"), std::string("rate"),
+                                                    std::string(""), std::string(""), 0.0, 1.0}});
+  EXPECT_THROW(read_metric_specs(file, "/t/bad"), std::runtime_error);
+  // A study's configurations: each range the smallest holding both.
+  const std::vector<MetricSpec> short_cap = {mean_metric("mean_steps", "steps", "", 0, 50)};
+  const std::vector<MetricSpec> long_cap = {mean_metric("mean_steps", "steps", "", 0, 100),
+                                            fit_seconds_spec()};
+  const std::vector<MetricSpec> both = united_metric_specs(short_cap, long_cap);
+  ASSERT_EQ(both.size(), 2u);
+  EXPECT_EQ(both[0].high, 100.0);
+  EXPECT_EQ(both[1].name, "fit_seconds");
 }
 
 }  // namespace

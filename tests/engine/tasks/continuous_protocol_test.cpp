@@ -75,7 +75,7 @@ TEST(ContinuousProtocol, ThreeBasesUnscaledSamplesAndTheSameForOneAndTwoThreads)
   }
 
   ASSERT_EQ(one.fits.size(), 3u);
-  const std::vector<MetricSpec> specs = continuous_metric_specs(env);
+  const std::vector<MetricSpec> specs = continuous_metric_specs(env, protocol);
   for (const FitRecord& fit : one.fits) {
     SCOPED_TRACE(std::string(kernel_type_name(fit.point.basis)));
     EXPECT_TRUE(fit.status == "converged" || fit.status == "max_iterations")

@@ -19,9 +19,9 @@
 namespace ggk::engine {
 namespace {
 
-const std::vector<MetricSpec> kSpecs = {{"score", MetricKind::kFraction, true},
-                                        {"lspi_iterations"},
-                                        {"steps", MetricKind::kMean, true}};
+const std::vector<MetricSpec> kSpecs = {tested(fraction_metric("score", "a share")),
+                                        mean_metric("lspi_iterations", "iterations", ""),
+                                        tested(mean_metric("steps", "steps", ""))};
 
 TEST(FitMetrics, SetByNameInDeclaredOrderTheRestNaN) {
   FitMetrics metrics(kSpecs);

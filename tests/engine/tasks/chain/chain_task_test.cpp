@@ -44,9 +44,9 @@ RunRecord run_with_threads(const JobSpec& job, std::int32_t run, std::size_t thr
 }
 
 TEST_F(ChainTask, ItsMetricAndNoGoalColumns) {
-  EXPECT_EQ(metric_kind("chain", "optimal_action_fraction"), MetricKind::kFraction);
-  EXPECT_EQ(metric_kind("chain", "kernel_gap"), MetricKind::kMean);
   const RunRecord record = compute_run(job_, 0);
+  EXPECT_EQ(declared_kind(record.metric_specs, "optimal_action_fraction"), MetricKind::kFraction);
+  EXPECT_EQ(declared_kind(record.metric_specs, "kernel_gap"), MetricKind::kMean);
   ASSERT_EQ(record.fits.size(), 12u);  // 2 bases x 3 kernel counts x 2 solvers
   std::vector<std::string> names;
   for (const auto& metric : record.fits[0].metrics) names.push_back(metric.first);
