@@ -18,6 +18,7 @@
 #include "engine/job/job_file.hpp"
 #include "engine/job/job_input.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/run/existing_output.hpp"
 #include "engine/run/isolated_reading.hpp"
 #include "engine/run/job_runner.hpp"
 #include "engine/run/reading_memory_cap.hpp"
@@ -436,10 +437,7 @@ OpenedResults open_results(const Study& study, const RunOptions& options, bool u
   OutputState state = output_state(output);  // refuse a device or FIFO before locking
   if (auto problem = results_extension_problem(output)) throw UsageError("output: " + *problem);
   if (state == OutputState::kFile && !options.resume && !options.overwrite) {
-    throw UsageError(
-        "output " + output.string() +
-        " exists: pass --resume to continue it, or --overwrite to replace it (deleting "
-        "its complete runs)");
+    throw UsageError(existing_output_refusal(study, output, options.output.empty()));
   }
   std::optional<ResultsTarget> target;  // before the lock and the stop signals: outlives both
   OutputLock lock = OutputLock::acquire(output);

@@ -19,6 +19,9 @@
 #   relative_paths validate and run resolve a job's paths alike from any working
 #                  directory: files it names from its folder, the output from the
 #                  working directory
+#   copied_job     a job file copied from another (the same name and [output] file,
+#                  another seed) is refused at the original's results, which it names
+#                  as another job's, with what to change; the original's file is untouched
 # Environment: GGK (the binary), GGK_SOURCE_DIR.
 set -euo pipefail
 case_name=$1
@@ -204,6 +207,30 @@ with h5py.File(sys.argv[1], 'a') as f:
     "$GGK" run "$scratch/job.toml" -q -o "$scratch/r.h5" --resume
   expect_error 2 "cannot merge $scratch/r.h5: it has results layout 1" \
     "$GGK" merge "$scratch/m.h5" "$scratch/r.h5"
+  ;;
+copied_job)
+  mkdir -p "$scratch/project/jobs" "$scratch/project/mine" "$scratch/project/results"
+  write_job "$scratch/project/jobs/job.toml"
+  cd "$scratch/project"
+  "$GGK" run jobs/job.toml -q 2>/dev/null || fail "run the original"
+  before=$(sha256sum results/cli.h5)
+  sed 's/^seed = 3$/seed = 4/' jobs/job.toml >mine/job.toml
+  cp -r jobs/maps mine/
+  expect_error 2 "exists and holds the results of a different job (seed: 3 in the results file, 4 in the job file" \
+    "$GGK" run mine/job.toml -q
+  grep -qF 'a job file copied from another keeps the original'"'"'s `name` and `[output] file`' \
+    "$scratch/err" || fail "no hint at the copied name: $(cat "$scratch/err")"
+  # The same job, run again: the plain refusal, which --resume answers.
+  expect_error 2 "exists: pass --resume to continue it" "$GGK" run jobs/job.toml -q
+  # Given -o, the file is not the job's own [output] file: no hint at a copy.
+  expect_error 2 "holds the results of a different job" "$GGK" run mine/job.toml -q -o results/cli.h5
+  if grep -qF "copied from another" "$scratch/err"; then fail "a copy hint for -o"; fi
+  [ "$(sha256sum results/cli.h5)" = "$before" ] || fail "the original's results changed"
+  sed -i 's/^name = "cli"$/name = "mine"/' mine/job.toml
+  echo '[output]' >>mine/job.toml
+  echo 'file = "results/mine.h5"' >>mine/job.toml
+  s=$(status_of "$GGK" run mine/job.toml -q)
+  [ "$s" = 0 ] && [ -f results/mine.h5 ] || fail "the renamed copy: $(cat "$scratch/err")"
   ;;
 relative_paths)
   mkdir -p "$scratch/project/jobs" "$scratch/project/results" "$scratch/elsewhere"
