@@ -53,9 +53,10 @@ std::string existing_output_refusal(const Study& study, const std::filesystem::p
   }
   std::string message = "output " + output.string() + " exists and " + *why;
   if (own_output) {
-    message += ". It is the job file's [output] file: a job file copied from another keeps "
-               "the original's `name` and `[output] file`; give yours names of their own "
-               "(name = \"...\", [output] file = \"results/....h5\")";
+    message +=
+        ". It is the job file's [output] file: a job file copied from another keeps "
+        "the original's `name` and `[output] file`; give yours names of their own "
+        "(name = \"...\", [output] file = \"results/....h5\")";
   }
   return message;
 }
