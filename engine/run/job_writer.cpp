@@ -27,7 +27,7 @@ JobWriter::JobWriter(const Study& study, const RunOptions& options, OpenedResult
       stop_signals_(std::move(opened.stop_signals)),
       progress_(std::in_place, runs_to_write,
                 static_cast<std::int32_t>(expand_points(study.configurations.front()).size()),
-                options.quiet, /*count_fits=*/mode == StopSignals::Mode::kStopInHandler),
+                options.quiet),
       writer_(std::move(opened.file), StoreWriter::kDefaultQueueCapacity,
               StoreWriter::WhenIdle::kCloseForReaders) {
   stop_signals_->set_mode(mode);

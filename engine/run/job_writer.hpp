@@ -68,6 +68,8 @@ class JobWriter {
     for (const WorkUnit& unit : units) progress_->expect_unit(unit.configuration);
   }
   void set_stage(std::string text) { progress_->set_stage(std::move(text)); }
+  // Fits another MPI rank ended (its heartbeats say how many).
+  void add_remote_fits(std::int64_t fits) { progress_->add_remote_fits(fits); }
   bool failed() const { return writer_.failed(); }
   std::int32_t written() const { return written_.load(); }
   const ResultsTarget& target() const { return target_; }

@@ -31,6 +31,7 @@
 #include "engine/run/stop_signals.hpp"
 #include "engine/store/process_state.hpp"
 #include "engine/store/run_store.hpp"
+#include "engine/tasks/fit_count.hpp"
 #include "engine/tasks/task_list.hpp"
 
 namespace ggk::engine {
@@ -74,6 +75,7 @@ struct ResultHeader {
   std::int64_t configuration = 0;
   std::int64_t failed_fits = 0;
   std::int64_t extension = 0;  // 1: the image extends a stored run (RunRecord::extension)
+  std::int64_t fits_done = 0;  // the worker's fits ended so far (tasks/fit_count.hpp)
 };
 
 // A unit of work (study.hpp) as the one int64 an assignment sends, and back;
@@ -231,7 +233,9 @@ int work(const Study& study) {
     while (computing.wait_for(kStopPoll) != std::future_status::ready) {
       if (const int signal = stop_signals.received()) report_stop_and_exit(signal, nullptr);
       if (Clock::now() - last_heartbeat >= kHeartbeatPeriod) {
-        MPI_Send(nullptr, 0, MPI_BYTE, 0, kHeartbeat, MPI_COMM_WORLD);
+        // With the fits this worker has ended so far: rank 0's progress counts them.
+        const std::int64_t fits = fits_done();
+        MPI_Send(&fits, 1, MPI_INT64_T, 0, kHeartbeat, MPI_COMM_WORLD);
         last_heartbeat = Clock::now();
       }
     }
@@ -239,7 +243,7 @@ int work(const Study& study) {
     try {
       const RunRecord record = computing.get();
       const ResultHeader header{unit.run, unit.configuration, failed_fits_of(record),
-                                record.extension ? 1 : 0};
+                                record.extension ? 1 : 0, fits_done()};
       const std::vector<unsigned char> image = run_image(job, record);
       message.resize(sizeof header + image.size());
       std::memcpy(message.data(), &header, sizeof header);
@@ -342,8 +346,16 @@ class Coordinator {
     Clock::time_point last_heard;
   };
   std::map<int, Held> held_;  // worker rank -> its run
-  std::set<int> active_;      // workers not yet told to stop, failed or stopped by a signal
-  std::set<int> stopped_;     // workers that reported a stop signal
+  // Worker rank -> the fits it has said it ended (heartbeats and results carry
+  // its running count): the progress display counts the fits of every rank.
+  std::map<int, std::int64_t> worker_fits_;
+  void count_worker_fits(int rank, std::int64_t fits) {
+    std::int64_t& counted = worker_fits_[rank];
+    if (fits > counted) writer_.add_remote_fits(fits - counted);
+    counted = std::max(counted, fits);
+  }
+  std::set<int> active_;   // workers not yet told to stop, failed or stopped by a signal
+  std::set<int> stopped_;  // workers that reported a stop signal
   struct Process {
     pid_t pid = 0;
     std::string host;
@@ -394,9 +406,15 @@ void Coordinator::receive(const MPI_Status& status) {
   auto bytes = std::make_shared<std::vector<unsigned char>>(static_cast<std::size_t>(count));
   MPI_Recv(bytes->data(), count, MPI_BYTE, rank, status.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   switch (status.MPI_TAG) {
-    case kHeartbeat:
+    case kHeartbeat: {
       held_[rank].last_heard = Clock::now();
+      std::int64_t fits = 0;
+      if (bytes->size() == sizeof fits) {
+        std::memcpy(&fits, bytes->data(), sizeof fits);
+        count_worker_fits(rank, fits);
+      }
       return;
+    }
     case kReady: {
       const std::string hello(reinterpret_cast<const char*>(bytes->data()), bytes->size());
       const std::string::size_type space = hello.find(' ');
@@ -412,6 +430,7 @@ void Coordinator::receive(const MPI_Status& status) {
       if (bytes->size() < sizeof header) throw std::runtime_error("short result message");
       std::memcpy(&header, bytes->data(), sizeof header);
       failed_fits_.fetch_add(header.failed_fits);
+      count_worker_fits(rank, header.fits_done);
       writer_.commit_image(static_cast<std::int32_t>(header.configuration),
                            static_cast<std::int32_t>(header.run), std::move(bytes),
                            sizeof(ResultHeader), header.extension != 0);

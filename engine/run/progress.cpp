@@ -126,7 +126,8 @@ void Progress::print(bool final_line) {
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const std::int64_t total_fits = static_cast<std::int64_t>(total_runs) * fits_per_run_;
-  const std::int64_t fits = count_fits_ ? fits_done() - fits_before_ : -1;
+  const std::int64_t fits =
+      count_fits_ ? fits_done() - fits_before_ + remote_fits_.load(std::memory_order_relaxed) : -1;
   // Weighted by each configuration's cost once a unit has ended (print runs under
   // mutex_: the loop holds it, and the final line comes after the loop ended).
   const std::optional<double> weighted = weighted_seconds_left(configurations_, elapsed);

@@ -1,7 +1,8 @@
 #pragma once
 // Progress of a sweep on stderr: a redrawn bar when stderr is a terminal, plain
 // lines every few seconds otherwise. Runs done / total, and fits done / total as
-// each fit ends (tasks/fit_count.hpp), so a long run shows its progress; the ETA
+// each fit ends (tasks/fit_count.hpp; an MPI rank 0 adds its workers', which
+// their heartbeats report), so a long run shows its progress; the ETA
 // from fits once one has ended (a fit is the finer unit of work), else from runs.
 //
 // Thread-safety: run_done() may be called from any thread.
@@ -24,8 +25,8 @@ namespace ggk::engine {
 std::string eta_text(std::int64_t done, std::int64_t total, double elapsed_seconds);
 
 // What the display says (without the bar): "runs 0/1, fits 10/40, 2.0 fits/s,
-// elapsed 5s, eta 15s". fits_done < 0: fits are not counted here (an MPI rank 0,
-// whose workers' fits it does not see): runs only, fits/s from whole runs.
+// elapsed 5s, eta 15s". fits_done < 0: fits are not counted: runs only, fits/s
+// from whole runs.
 // eta_seconds: an estimate made otherwise (weighted_seconds_left), shown instead.
 std::string progress_text(std::int32_t runs_done, std::int32_t total_runs, std::int64_t fits_done,
                           std::int64_t total_fits, double elapsed_seconds,
@@ -50,8 +51,8 @@ std::optional<double> weighted_seconds_left(std::span<const ConfigurationProgres
 
 class Progress {
  public:
-  // quiet: print nothing. fits_per_run: sweep points per run. count_fits: the
-  // fits of this process are the job's (not under MPI).
+  // quiet: print nothing. fits_per_run: sweep points per run. count_fits: count
+  // the fits ended (this process's, and other ranks' as add_remote_fits reports).
   Progress(std::int32_t total_runs, std::int32_t fits_per_run, bool quiet, bool count_fits = true);
   ~Progress();  // stops the printer and prints the final line
   Progress(const Progress&) = delete;
@@ -66,6 +67,10 @@ class Progress {
   // with ("look 2, 14 of 216 cells open").
   void add_runs(std::int32_t runs) { total_runs_.fetch_add(runs, std::memory_order_relaxed); }
   void set_stage(std::string text);
+  // Fits ended in another process (an MPI worker's, which its heartbeats report).
+  void add_remote_fits(std::int64_t fits) {
+    remote_fits_.fetch_add(fits, std::memory_order_relaxed);
+  }
 
  private:
   void print(bool final_line);
@@ -79,6 +84,7 @@ class Progress {
   const std::int64_t fits_before_;  // fits_done() at the start
   const std::chrono::steady_clock::time_point start_;
   std::atomic<std::int32_t> runs_done_{0};
+  std::atomic<std::int64_t> remote_fits_{0};  // add_remote_fits
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stopping_ = false;

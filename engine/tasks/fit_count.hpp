@@ -5,7 +5,8 @@
 // "runs 0/1, 0.0 fits/s, eta --" throughout a 52 s run). The protocols
 // (discrete_protocol.cpp, continuous_protocol.cpp) call count_fit_done() after
 // each fit, on whatever thread computed it. Only this process's fits: an MPI
-// rank 0 does not see its workers' (its display counts runs).
+// worker sends its count to rank 0 with each heartbeat and result
+// (run/mpi_runner.cpp), whose display adds them.
 
 #include <cstdint>
 

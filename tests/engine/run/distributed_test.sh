@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The distributed engine end to end, through the real ggk binary: one case per
 # call (ctest registers each, see tests/CMakeLists.txt).
-#   ranks  mpiexec -n 1..4 writes the file a single process writes (ggk diff)
+#   ranks  mpiexec -n 1..4 writes the file a single process writes (ggk diff), and
+#          its progress counts the fits of every rank
 #   shards --runs A:B shards merged equal the whole job; merge refuses foreign and
 #          overlapping shards, reports gaps, and --allow-partial's printed
 #          command completes (with --set overrides too)
@@ -65,6 +66,11 @@ ranks)
       2>"$scratch/np$n.log" || { cat "$scratch/np$n.log"; fail "mpiexec -n $n exited $?"; }
     # Output from rank 0 only: one final line.
     [ "$(grep -c 'runs computed' "$scratch/np$n.log")" = 1 ] || fail "-n $n: not one final line"
+    # The progress counts every rank's fits (the workers' heartbeats and results
+    # carry their counts): the last line has them all.
+    last=$(grep -E '^ggk: runs [0-9]+/[0-9]+, ' "$scratch/np$n.log" | tail -n 1)
+    [[ $last =~ fits\ ([0-9]+)/([0-9]+), ]] && [ "${BASH_REMATCH[1]}" = "${BASH_REMATCH[2]}" ] ||
+      fail "-n $n: the last progress line does not count every fit: $last"
     "$GGK" diff "$scratch/single.h5" "$scratch/np$n.h5" || fail "-n $n differs from one process"
   done
   # Threads inside ranks too.
