@@ -134,13 +134,8 @@ Hdf5File open_for_resume(const fs::path& output, std::vector<std::string>& notes
 }
 
 void write_configuration_group(Hdf5File& file, const RunConfiguration& configuration) {
-  const std::string group = "/" + runs_location(configuration.job);
-  if (!file.exists(group)) file.create_group(group);
-  for (const char* name : {"configuration", "study_values"}) {
-    if (file.has_attribute(group, name)) file.remove_attribute(group, name);
-  }
-  file.write_int64_attribute(group, "configuration", configuration.index);
-  file.write_string_attribute(group, "study_values", study_values_text(configuration.assignments));
+  write_configuration_group(file, runs_location(configuration.job), configuration.index,
+                            study_values_text(configuration.assignments));
 }
 
 // Gives every configuration group of the file the name and index of the
@@ -168,9 +163,7 @@ void align_configurations(Hdf5File& file, const Study& study, const fs::path& ou
     if (name != configuration.job.configuration_group) {
       file.move(task_group + "/" + name, "/" + runs_location(configuration.job));
     }
-    const std::string group = "/" + runs_location(configuration.job);
-    if (!file.has_attribute(group, "configuration") ||
-        file.read_int64_attribute(group, "configuration") != configuration.index) {
+    if (!records_configuration(file, runs_location(configuration.job), configuration.index)) {
       write_configuration_group(file, configuration);
     }
   }

@@ -198,9 +198,7 @@ std::vector<ConfigurationGroup> configuration_groups(const Hdf5File& file, const
         is_configuration_group_name(std::string_view(name).substr(kMovingPrefix.size()));
     if (!moving && !is_configuration_group_name(name)) continue;
     const std::string group = task_group + "/" + name;
-    const std::string values = file.has_attribute(group, "study_values")
-                                   ? file.read_string_attribute(group, "study_values")
-                                   : std::string();
+    const std::string values = study_values_of(file, group.substr(1)).value_or(std::string());
     const auto configuration = by_values.find(values);
     if (configuration == by_values.end()) {
       throw UsageError("cannot resume " + output.string() + ": its group " + group +

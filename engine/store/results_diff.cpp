@@ -195,11 +195,10 @@ class Comparison {
     const auto by_values = [&](const Hdf5File& file, std::vector<std::string>& names) {
       std::map<std::string, std::string> found;  // study_values -> group name
       std::erase_if(names, [&](const std::string& name) {
-        const std::string group = child(task_group_, name);
-        if (!is_configuration_group_name(name) || !file.has_attribute(group, "study_values")) {
-          return false;
-        }
-        return found.emplace(file.read_string_attribute(group, "study_values"), name).second;
+        if (!is_configuration_group_name(name)) return false;
+        const std::optional<std::string> values =
+            study_values_of(file, child(task_group_, name).substr(1));
+        return values && found.emplace(*values, name).second;
       });
       return found;
     };

@@ -255,12 +255,13 @@ void merge_results(const std::filesystem::path& output,
     for (std::size_t l = 0; l < locations.size(); ++l) {
       if (locations[l] != task) {  // a configuration group's own attributes
         const Hdf5File& source = shards.front().file;
-        const std::string group = "/" + locations[l];
-        merged.create_group(group);
-        merged.write_int64_attribute(group, "configuration",
-                                     source.read_int64_attribute(group, "configuration"));
-        merged.write_string_attribute(group, "study_values",
-                                      source.read_string_attribute(group, "study_values"));
+        const std::optional<std::string> values = study_values_of(source, locations[l]);
+        if (!values) {
+          throw std::runtime_error(source.path().string() + ": /" + locations[l] +
+                                   " has no study_values");
+        }
+        write_configuration_group(merged, locations[l], configuration_of(source, locations[l]),
+                                  *values);
       }
       for (const auto& [run, s] : owners[l]) {
         merged.copy_from(shards[s].file, run_group(locations[l], run),

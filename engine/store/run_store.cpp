@@ -656,10 +656,33 @@ std::int64_t write_summary(Hdf5File& file, const JobSpec& job) {
   return write_summary(file, job.task, job.runs);
 }
 
+void write_configuration_group(Hdf5File& file, const std::string& location, std::int64_t index,
+                               const std::string& study_values) {
+  const std::string group = "/" + location;
+  if (!file.exists(group)) file.create_group(group);
+  for (const char* name : {kConfigurationAttribute, kStudyValuesAttribute}) {
+    if (file.has_attribute(group, name)) file.remove_attribute(group, name);
+  }
+  file.write_int64_attribute(group, kConfigurationAttribute, index);
+  file.write_string_attribute(group, kStudyValuesAttribute, study_values);
+}
+
+bool records_configuration(const Hdf5File& file, const std::string& location, std::int64_t index) {
+  const std::string group = "/" + location;
+  return file.has_attribute(group, kConfigurationAttribute) &&
+         file.read_int64_attribute(group, kConfigurationAttribute) == index;
+}
+
+std::optional<std::string> study_values_of(const Hdf5File& file, const std::string& location) {
+  const std::string group = "/" + location;
+  if (!file.has_attribute(group, kStudyValuesAttribute)) return std::nullopt;
+  return file.read_string_attribute(group, kStudyValuesAttribute);
+}
+
 std::int32_t configuration_of(const Hdf5File& file, const std::string& location) {
   const std::string group = "/" + location;
-  const std::int64_t index = file.has_attribute(group, "configuration")
-                                 ? file.read_int64_attribute(group, "configuration")
+  const std::int64_t index = file.has_attribute(group, kConfigurationAttribute)
+                                 ? file.read_int64_attribute(group, kConfigurationAttribute)
                                  : -1;
   if (index < 0 || index > INT32_MAX) {
     throw std::runtime_error(group + " has no valid 'configuration' attribute");

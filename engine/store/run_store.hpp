@@ -20,6 +20,7 @@
 // All functions make HDF5 calls: call them on the StoreWriter's thread only.
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -62,9 +63,23 @@ std::string runs_location(const JobSpec& job);
 // index order, or the task itself when it has none.
 std::vector<std::string> runs_locations(const Hdf5File& file, const std::string& task);
 bool is_configuration_group_name(std::string_view name);
+// A study configuration's group (/<task>/config_NNN) records its configuration
+// in two attributes: `configuration` (int64, its index in the study's product
+// order) and `study_values` (its "key = value" lines, canonical TOML values:
+// what names the group's configuration whatever its name or index).
+inline constexpr const char* kConfigurationAttribute = "configuration";
+inline constexpr const char* kStudyValuesAttribute = "study_values";
+// Creates the group at `location` (without the leading '/') when missing and
+// (re)writes its two attributes.
+void write_configuration_group(Hdf5File& file, const std::string& location, std::int64_t index,
+                               const std::string& study_values);
 // The index a configuration group records (attribute `configuration`); throws
 // std::runtime_error when it has none.
 std::int32_t configuration_of(const Hdf5File& file, const std::string& location);
+// Whether the group at `location` records `index` as its configuration.
+bool records_configuration(const Hdf5File& file, const std::string& location, std::int64_t index);
+// The study_values the group at `location` records; nullopt when it has none.
+std::optional<std::string> study_values_of(const Hdf5File& file, const std::string& location);
 
 // Writes the run whole under its staging group, flushes, moves it into place,
 // marks it complete and flushes again (an incomplete leftover of the same run is
