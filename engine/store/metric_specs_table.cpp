@@ -65,6 +65,13 @@ std::optional<std::vector<MetricSpec>> read_metric_specs(const Hdf5File& file,
   return specs;
 }
 
+void unite_run_metric_specs(const Hdf5File& file, const std::string& run_group,
+                            std::optional<std::vector<MetricSpec>>& declared) {
+  if (auto specs = read_metric_specs(file, run_group + "/" + kMetricSpecsTable)) {
+    declared = declared ? united_metric_specs(*declared, *specs) : std::move(*specs);
+  }
+}
+
 MetricSpec legacy_metric_spec(std::string_view metric) {
   const std::string name(metric);
   MetricSpec spec = metric.starts_with("success_from_") ? indicator_metric(name, "")

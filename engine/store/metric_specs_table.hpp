@@ -35,6 +35,12 @@ void write_metric_specs(Hdf5File& file, const std::string& path, std::span<const
 std::optional<std::vector<MetricSpec>> read_metric_specs(const Hdf5File& file,
                                                          const std::string& path);
 
+// Unites into `declared` the metric_specs of the run group at `run_group`
+// (nothing for a run written before them): what the summary and `ggk info`
+// hold for a file's runs.
+void unite_run_metric_specs(const Hdf5File& file, const std::string& run_group,
+                            std::optional<std::vector<MetricSpec>>& declared);
+
 // What a file without metric_specs means by `metric`, as ggk read such files:
 // success_from_<name> an indicator; success_rate, optimal_action_fraction and a
 // name ending in _fraction a fraction in [0, 1]; anything else an unbounded mean.

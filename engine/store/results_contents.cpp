@@ -63,10 +63,7 @@ ResultsContents read_contents(const Hdf5File& file) {
       ++contents.complete_runs;
       const std::string table = run_group(locations[l], run) + "/fit_metrics";
       try {
-        if (auto specs =
-                read_metric_specs(file, run_group(locations[l], run) + "/" + kMetricSpecsTable)) {
-          declared = declared ? united_metric_specs(*declared, *specs) : std::move(*specs);
-        }
+        unite_run_metric_specs(file, run_group(locations[l], run), declared);
       } catch (const std::runtime_error& e) {
         throw UsageError(e.what());
       }

@@ -164,16 +164,22 @@ void write_csv(const ResultsContents& contents, std::span<const PointSummary> po
 }
 
 // Lines of cells, right-aligned in columns two spaces apart.
-void write_aligned(const std::vector<std::vector<std::string>>& cells, std::ostream& out) {
+// Left-aligned cells (a legend) end without trailing spaces.
+enum class Align { kRight, kLeft };
+void write_aligned(const std::vector<std::vector<std::string>>& cells, std::ostream& out,
+                   Align align = Align::kRight) {
   std::vector<std::size_t> widths(cells.front().size(), 0);
   for (const auto& line : cells) {
     for (std::size_t i = 0; i < line.size(); ++i) widths[i] = std::max(widths[i], line[i].size());
   }
   for (const auto& line : cells) {
+    std::string text;
     for (std::size_t i = 0; i < line.size(); ++i) {
-      out << (i == 0 ? "" : "  ") << std::string(widths[i] - line[i].size(), ' ') << line[i];
+      const std::string pad(widths[i] - line[i].size(), ' ');
+      text += (i == 0 ? "" : "  ") + (align == Align::kRight ? pad + line[i] : line[i] + pad);
     }
-    out << "\n";
+    if (align == Align::kLeft) text.erase(text.find_last_not_of(' ') + 1);
+    out << text << "\n";
   }
 }
 
@@ -206,18 +212,7 @@ void write_legend(const ResultsContents& contents, std::ostream& out) {
     cells.push_back(
         {"  " + spec.name, unit, range_text(spec), interval_method(spec), one_line(spec.meaning)});
   }
-  std::vector<std::size_t> widths(5, 0);
-  for (const auto& line : cells) {
-    for (std::size_t i = 0; i < line.size(); ++i) widths[i] = std::max(widths[i], line[i].size());
-  }
-  for (const auto& line : cells) {
-    std::string text;
-    for (std::size_t i = 0; i < line.size(); ++i) {
-      text += line[i] + std::string(widths[i] - line[i].size() + 2, ' ');
-    }
-    while (!text.empty() && text.back() == ' ') text.pop_back();
-    out << text << "\n";
-  }
+  write_aligned(cells, out, Align::kLeft);
 }
 
 // The file's provenance and runs, then (when there are fits) the totals and a

@@ -567,7 +567,10 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
   const std::string path = "/" + task + "/summary";
   const std::string staged = kStagingRoot + path;
   const std::string retired = kStagingRoot + path + "_old";
-  for (const std::string& leftover : {staged, retired}) {
+  // The metrics' declarations beside it, staged the same way.
+  const std::string specs_path = "/" + task + "/" + kMetricSpecsTable;
+  const std::string specs_staged = kStagingRoot + specs_path;
+  for (const std::string& leftover : {staged, retired, specs_staged, specs_staged + "_old"}) {
     if (file.exists(leftover)) drop(file, leftover);
   }
   std::vector<TableRow> rows;
@@ -586,10 +589,7 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
         configurations ? configuration_of(file, location) : std::int32_t{0};
     for (const std::int32_t run : complete_runs(file, location, runs)) {
       const std::string table = run_group(location, run) + "/fit_metrics";
-      if (auto specs =
-              read_metric_specs(file, run_group(location, run) + "/" + kMetricSpecsTable)) {
-        declared = declared ? united_metric_specs(*declared, *specs) : std::move(*specs);
-      }
+      unite_run_metric_specs(file, run_group(location, run), declared);
       if (columns.empty()) {
         columns = file.read_table_columns(table);
         if (configurations) {
@@ -632,10 +632,7 @@ std::int64_t write_summary(Hdf5File& file, const std::string& task, std::int32_t
     describe_table(file, staged, "one row per fit of every complete run, in run order");
     file.flush();
   }
-  const std::string specs_path = "/" + task + "/" + kMetricSpecsTable;
-  const std::string specs_staged = kStagingRoot + specs_path;
   if (declared) {
-    if (file.exists(specs_staged)) drop(file, specs_staged);
     write_metric_specs(file, specs_staged, *declared);
     describe_table(file, specs_staged, "the summary's metrics: kind, unit, meaning, range");
     file.flush();
