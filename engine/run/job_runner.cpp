@@ -28,7 +28,9 @@ RunRecord compute_run(const JobSpec& job, std::int32_t run) {
   const TaskDefinition* task = find_task(job.task);
   if (task == nullptr) throw std::logic_error("job names task '" + job.task + "', not registered");
   const std::vector<SweepPoint> points = expand_sweep(job);
-  return task->compute_run(job, run, points);
+  RunRecord record = task->compute_run(job, run, points);
+  record.dataset_specs = task->datasets;
+  return record;
 }
 
 RunRecord compute_unit(const Study& study, const WorkUnit& unit) {
@@ -44,6 +46,7 @@ RunRecord compute_unit(const Study& study, const WorkUnit& unit) {
     points = std::move(lacking);
   }
   RunRecord record = task->compute_run(configuration.job, unit.run, points);
+  record.dataset_specs = task->datasets;
   record.configuration = unit.configuration;
   record.extension = !unit.points.empty();
   return record;

@@ -80,7 +80,8 @@ void print_run_summary(const JobSpec& job, const RunSummary& summary);
 // The summary's warnings, one "ggk: warning: " line each (printed under -q too).
 void print_fit_warnings(const RunSummary& summary);
 
-// Runs one run of the job's task for every sweep point (no I/O).
+// Runs one run of the job's task for every sweep point (no I/O); the record
+// carries the task's dataset declarations (TaskDefinition::datasets).
 RunRecord compute_run(const JobSpec& job, std::int32_t run);
 // One unit of a study: the run of its configuration, every fit of every variant.
 RunRecord compute_unit(const Study& study, const WorkUnit& unit);

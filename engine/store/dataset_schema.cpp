@@ -1,5 +1,6 @@
 #include "engine/store/dataset_schema.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <optional>
@@ -13,133 +14,49 @@ namespace {
 // Fit datasets carry the prefix "fit:" (their path below the fit group).
 constexpr std::string_view kFitPrefix = "fit:";
 
-constexpr std::array kSchemas = {
-    // samples/ (every task)
-    DatasetSchema{"samples/observations", "sample,observation_dim", "task state units",
-                  "state vector of s (sims/<task>/README.md)"},
-    DatasetSchema{"samples/actions", "sample", "action code", "action a (action_names)"},
-    DatasetSchema{"samples/rewards", "sample", "reward", "reward r"},
-    DatasetSchema{"samples/next_observations", "sample,observation_dim", "task state units",
-                  "state vector of s'"},
-    DatasetSchema{"samples/terminals", "sample", "flag", "1 if s' ends the episode"},
-    DatasetSchema{"samples/collisions", "sample", "flag",
-                  "1 if the random step was undone (khepera)"},
-    // the run
-    DatasetSchema{"action_names", "action", "", "the name of each action code"},
-    DatasetSchema{"start_states", "start", "node id",
-                  "the states the goal test starts from, the index of steps_to_goal (maze, arm)"},
-    DatasetSchema{"graph/indptr", "node_pointer", "index",
-                  "CSR row pointer of the sample graph (node + 1 entries)"},
-    DatasetSchema{"graph/indices", "edge", "node id", "CSR column (neighbour) of each edge"},
-    DatasetSchema{"graph/weights", "edge", "task state units",
-                  "Euclidean distance between the edge's state vectors"},
-    DatasetSchema{"graph/nodes", "node,observation_dim", "task state units",
-                  "state vector of each graph node"},
-    DatasetSchema{"graph/visited", "node", "flag",
-                  "1 if a sample starts or ends there (maze, arm)"},
-    DatasetSchema{"graph/occupied", "node", "flag",
-                  "1 if a reading has the SOM unit as its BMU (khepera)", "khepera"},
-    DatasetSchema{"grid/state_of", "shoulder,elbow", "node id",
-                  "arm: the state of each joint-grid cell, -1 = collision"},
-    DatasetSchema{"grid/goal", "shoulder,elbow", "flag", "arm: 1 where the cell is a goal state"},
-    DatasetSchema{"workspace/rectangles", "rectangle,corner_xy", "workspace units",
-                  "arm obstacles: min x, min y, max x, max y"},
-    DatasetSchema{"workspace/discs", "disc,disc_field", "workspace units",
-                  "arm obstacles: centre x, y, radius"},
-    DatasetSchema{"workspace/object", "disc_field", "workspace units",
-                  "arm: the object, centre x, y, radius"},
-    DatasetSchema{"workspace/pose_A", "joint_point,xy", "workspace units",
-                  "arm: base, elbow and hand of pose A"},
-    DatasetSchema{"workspace/pose_A_deg", "joint", "degrees", "arm: shoulder and elbow angle of A"},
-    DatasetSchema{"workspace/goal_poses", "goal,pose_xy", "workspace units",
-                  "arm: base, elbow and hand (x, y each) of each goal pose"},
-    DatasetSchema{"workspace/goal_poses_deg", "goal,joint", "degrees",
-                  "arm: shoulder and elbow angle of each goal pose"},
-    DatasetSchema{"som/prototypes", "node,sensor", "IR reading",
-                  "khepera: the prototype of each SOM unit", "khepera"},
-    DatasetSchema{"som/grid", "node,grid_axis", "index",
-                  "khepera: (row, column) of each unit on the SOM grid", "khepera"},
-    DatasetSchema{"som/quantization_error", "epoch", "IR reading",
-                  "khepera: mean distance to the BMU after each epoch", "khepera"},
-    DatasetSchema{"state_units", "state", "node id",
-                  "khepera: the BMU of every reading of the walks (series k, reading t: row "
-                  "k (steps + 1) + t)",
-                  "khepera"},
-    DatasetSchema{"arena/box", "box_field", "cm", "khepera: min x, min y, max x, max y, walled"},
-    DatasetSchema{"arena/segments", "segment,segment_field", "cm", "khepera: a x, a y, b x, b y"},
-    DatasetSchema{"arena/rectangles", "rectangle,corner_xy", "cm",
-                  "khepera: min x, min y, max x, max y"},
-    DatasetSchema{"arena/rotated_rectangles", "rectangle,rotated_field", "cm, degrees",
-                  "khepera: centre x, y, width, height, angle (degrees)"},
-    DatasetSchema{"arena/discs", "disc,disc_field", "cm", "khepera: centre x, y, radius"},
-    DatasetSchema{"arena/start", "pose", "cm, rad", "khepera: start x, y, heading"},
-    DatasetSchema{"robot/radius", "value", "cm", "khepera: the body's radius"},
-    DatasetSchema{"robot/sensors", "sensor,mount_field", "cm, degrees",
-                  "khepera: each IR sensor's mount x, y, heading"},
-    DatasetSchema{"robot/start_rays", "ray,ray_field", "cm, flag",
-                  "khepera: three rays per sensor at the start pose: from x, y, to x, y, seen"},
-    DatasetSchema{"robot/start_readings", "sensor", "IR reading",
-                  "khepera: the noiseless readings at the start pose"},
-    // continuous tasks (engine/tasks/continuous_protocol.hpp) other than the Khepera
-    DatasetSchema{"observation_scale", "observation_dim", "task state units",
-                  "the divisor of each observation dimension before the SOM and the kernels "
-                  "([<task>.scale])"},
-    DatasetSchema{"som/prototypes", "node,observation_dim", "scaled state units",
-                  "the prototype of each SOM unit (observation / observation_scale)"},
-    DatasetSchema{"som/grid", "node,grid_axis", "index",
-                  "(row, column) of each unit on the SOM grid"},
-    DatasetSchema{"som/quantization_error", "epoch", "scaled state units",
-                  "mean distance to the BMU after each epoch"},
-    DatasetSchema{"state_units", "state", "node id",
-                  "the BMU of every observation of the walks, in series order"},
-    DatasetSchema{"graph/occupied", "node", "flag",
-                  "1 if an observation has the SOM unit as its BMU"},
-    DatasetSchema{"fit:unit_policy", "node", "action code",
-                  "greedy action at each SOM unit's prototype"},
-    DatasetSchema{"fit:evaluation/returns", "episode", "reward", "the return of each test episode"},
-    DatasetSchema{
-        "fit:evaluation/trajectory_*", "step,state_field", "task state units",
-        "the simulator's state along the test episode, the start first (sims/<task>/README.md)"},
-    DatasetSchema{"optimal_actions", "state,action", "flag",
-                  "chain: 1 where the action is optimal by value iteration"},
-    DatasetSchema{"fit_metrics", "row", "", "one row per fit of this run (the summary's columns)"},
-    DatasetSchema{"metric_specs", "metric", "",
-                  "fit_metrics' metrics after status: name, kind, unit, meaning, low, high"},
-    // a fit (fits/<basis>/<point>/)
-    DatasetSchema{"fit:centers", "centre", "node id", "the graph node of each kernel centre"},
-    DatasetSchema{"fit:weights", "coefficient", "",
-                  "w: coefficient a*p + j = action a, centre j (p = centres; pvf: eigenvector j)"},
-    DatasetSchema{"fit:laplacian_eigenvalues", "eigenvector", "1 (Laplacian eigenvalue)",
-                  "basis pvf: the p smallest eigenvalues of the graph's Laplacian, ascending"},
-    DatasetSchema{"fit:policy", "state", "action code", "greedy action per state"},
-    DatasetSchema{"fit:state_values", "state", "return", "V(s) = max_a Q(s, a)"},
-    DatasetSchema{"fit:steps_to_goal", "start", "steps",
-                  "greedy steps from each of start_states to a goal, -1 = failed"},
-    DatasetSchema{"fit:trajectory_*", "step", "node id",
-                  "the states of the greedy walk from the named start, the start first"},
-    DatasetSchema{"fit:unit_policy", "node", "action code",
-                  "khepera: greedy action at each SOM unit's prototype", "khepera"},
-    DatasetSchema{"fit:evaluation/returns", "episode", "reward",
-                  "khepera: the return of each evaluation episode", "khepera"},
-    DatasetSchema{"fit:evaluation/trajectory_*", "step,pose", "cm, rad",
-                  "khepera: x, y, heading of the episode's poses from the start", "khepera"},
-    DatasetSchema{"fit:history/policy_changes", "iteration", "states",
-                  "states whose greedy action changed"},
-    DatasetSchema{"fit:history/weight_change", "iteration", "", "L2 norm of w_k - w_(k-1)"},
-    DatasetSchema{"fit:history/relative_residual", "iteration", "",
-                  "norm(A w - b) / norm(b) of the iteration's solve"},
-    DatasetSchema{"fit:history/rcond", "iteration", "",
-                  "LAPACK's reciprocal 1-norm condition estimate of A (with its ridge)"},
-    DatasetSchema{"fit:history/dense_solve", "iteration", "flag",
-                  "1 if the system was factorised densely (LAPACK)"},
-    DatasetSchema{"fit:history/weights", "iteration,coefficient", "", "w of every iteration"},
-    DatasetSchema{"fit:history/*", "iteration", "as the metric",
-                  "the task's test of every iteration's greedy policy (a metric)"},
-    DatasetSchema{"fit:A/indptr", "row_pointer", "index", "CSR row pointer of the last A"},
-    DatasetSchema{"fit:A/indices", "nonzero", "coefficient", "CSR column of each entry of A"},
-    DatasetSchema{"fit:A/data", "nonzero", "", "entries of A (BRM: its lower triangle)"},
-    DatasetSchema{"fit:b", "coefficient", "", "b of the last evaluation system"},
+// What every run has, whatever its task: the samples, the graph, the fits'
+// tables and the LSPI result of each fit. A task declares what it adds
+// (TaskDefinition::datasets, engine/tasks/dataset_spec.hpp).
+constexpr std::array kStoreDatasets = {
+    DatasetSpec{"samples/observations", "sample,observation_dim", "task state units",
+                "state vector of s (sims/<task>/README.md)"},
+    DatasetSpec{"samples/actions", "sample", "action code", "action a (action_names)"},
+    DatasetSpec{"samples/rewards", "sample", "reward", "reward r"},
+    DatasetSpec{"samples/next_observations", "sample,observation_dim", "task state units",
+                "state vector of s'"},
+    DatasetSpec{"samples/terminals", "sample", "flag", "1 if s' ends the episode"},
+    DatasetSpec{"action_names", "action", "", "the name of each action code"},
+    DatasetSpec{"graph/indptr", "node_pointer", "index",
+                "CSR row pointer of the sample graph (node + 1 entries)"},
+    DatasetSpec{"graph/indices", "edge", "node id", "CSR column (neighbour) of each edge"},
+    DatasetSpec{"graph/weights", "edge", "task state units",
+                "Euclidean distance between the edge's state vectors"},
+    DatasetSpec{"graph/nodes", "node,observation_dim", "task state units",
+                "state vector of each graph node"},
+    DatasetSpec{"fit_metrics", "row", "", "one row per fit of this run (the summary's columns)"},
+    DatasetSpec{"metric_specs", "metric", "",
+                "fit_metrics' metrics after status: name, kind, unit, meaning, low, high"},
+    DatasetSpec{"fit:centers", "centre", "node id", "the graph node of each kernel centre"},
+    DatasetSpec{"fit:weights", "coefficient", "",
+                "w: coefficient a*p + j = action a, centre j (p = centres; pvf: eigenvector j)"},
+    DatasetSpec{"fit:policy", "state", "action code", "greedy action per state"},
+    DatasetSpec{"fit:history/policy_changes", "iteration", "states",
+                "states whose greedy action changed"},
+    DatasetSpec{"fit:history/weight_change", "iteration", "", "L2 norm of w_k - w_(k-1)"},
+    DatasetSpec{"fit:history/relative_residual", "iteration", "",
+                "norm(A w - b) / norm(b) of the iteration's solve"},
+    DatasetSpec{"fit:history/rcond", "iteration", "",
+                "LAPACK's reciprocal 1-norm condition estimate of A (with its ridge)"},
+    DatasetSpec{"fit:history/dense_solve", "iteration", "flag",
+                "1 if the system was factorised densely (LAPACK)"},
+    DatasetSpec{"fit:A/indptr", "row_pointer", "index", "CSR row pointer of the last A"},
+    DatasetSpec{"fit:A/indices", "nonzero", "coefficient", "CSR column of each entry of A"},
+    DatasetSpec{"fit:A/data", "nonzero", "", "entries of A (BRM: its lower triangle)"},
+    DatasetSpec{"fit:b", "coefficient", "", "b of the last evaluation system"},
 };
+
+// The store's declarations as one declarer's list.
+constexpr std::string_view kStoreDeclarer = "every task (the store)";
 
 bool matches(std::string_view pattern, std::string_view path) {
   if (!pattern.empty() && pattern.back() == '*') {
@@ -148,13 +65,14 @@ bool matches(std::string_view pattern, std::string_view path) {
   return pattern == path;
 }
 
-// The task's own entry first, then the entry for every task; exact paths before patterns.
-const DatasetSchema* find_schema(std::string_view key, std::string_view task) {
+// The task's lists in their order, then the store's; exact paths before patterns.
+const DatasetSpec* find_spec(std::string_view key, std::span<const DatasetSpecs> task_specs) {
   for (const bool exact : {true, false}) {
-    for (const std::string_view owner : {task, std::string_view()}) {
-      for (const DatasetSchema& schema : kSchemas) {
-        if (schema.task != owner) continue;
-        if (exact ? schema.path == key : matches(schema.path, key)) return &schema;
+    for (std::size_t list = 0; list <= task_specs.size(); ++list) {
+      const std::span<const DatasetSpec> specs =
+          list < task_specs.size() ? task_specs[list].specs : std::span(kStoreDatasets);
+      for (const DatasetSpec& spec : specs) {
+        if (exact ? spec.path == key : matches(spec.path, key)) return &spec;
       }
     }
   }
@@ -168,31 +86,49 @@ void describe(Hdf5File::Object& object, std::string_view dims, std::string_view 
   object.write_string_attribute("description", description);
 }
 
+constexpr std::string_view kWhereToDeclare =
+    ": declare it beside the task that writes it (TaskDefinition::datasets, "
+    "engine/tasks/dataset_spec.hpp) or, if every run has it, in "
+    "engine/store/dataset_schema.cpp";
+
 // Describes `object` (at `relative` below the run group) and every dataset below
 // it, each object opened once through its open parent.
-void describe_below(Hdf5File::Object& object, const std::string& relative, std::string_view task) {
+void describe_below(Hdf5File::Object& object, const std::string& relative,
+                    std::span<const DatasetSpecs> task_specs) {
   if (object.kind() == Hdf5File::ObjectKind::kGroup) {
     for (const std::string& member : object.member_names()) {
       std::optional<Hdf5File::Object> child = object.hard_member(member);
       if (!child) {
         throw std::logic_error(object.path() + "/" + member + " is not a hard link");
       }
-      describe_below(*child, relative.empty() ? member : relative + "/" + member, task);
+      describe_below(*child, relative.empty() ? member : relative + "/" + member, task_specs);
     }
     return;
   }
-  const DatasetSchema* schema = dataset_schema(relative, task);
-  if (schema == nullptr) {
-    throw std::logic_error("dataset '" + relative +
-                           "' has no entry in engine/store/dataset_schema.cpp");
+  const DatasetSpec* spec = dataset_spec_of(relative, task_specs);
+  if (spec == nullptr) {
+    throw std::logic_error("dataset '" + relative + "' has no declaration" +
+                           std::string(kWhereToDeclare));
   }
   const std::size_t rank = object.dataset_shape().size();
-  if (rank != dims_rank(schema->dims)) {
+  if (rank != dims_rank(spec->dims)) {
     throw std::logic_error("dataset '" + relative + "' has " + std::to_string(rank) +
-                           " dimensions, engine/store/dataset_schema.cpp names " +
-                           std::string(schema->dims));
+                           " dimensions, its declaration names " + std::string(spec->dims) +
+                           std::string(kWhereToDeclare));
   }
-  describe(object, schema->dims, schema->units, schema->description);
+  describe(object, spec->dims, spec->units, spec->description);
+}
+
+void append_markdown_rows(std::string& text, std::string_view declared_by,
+                          std::span<const DatasetSpec> specs) {
+  for (const DatasetSpec& spec : specs) {
+    std::string path(spec.path);
+    if (path.starts_with(kFitPrefix)) {
+      path = "fits/<basis>/<point>/" + path.substr(kFitPrefix.size());
+    }
+    text += "| `" + path + "` | " + std::string(declared_by) + " | " + std::string(spec.dims) +
+            " | " + std::string(spec.units) + " | " + std::string(spec.description) + " |\n";
+  }
 }
 
 }  // namespace
@@ -205,8 +141,7 @@ std::size_t dims_rank(std::string_view dims) {
     if (i < dims.size() && dims[i] != ',') continue;
     const std::string_view axis = dims.substr(start, i - start);
     if (axis.empty() || axis == kScalarDims) {
-      throw std::logic_error("dims '" + std::string(dims) +
-                             "' in engine/store/dataset_schema.cpp: an axis name is " +
+      throw std::logic_error("dims '" + std::string(dims) + "': an axis name is " +
                              (axis.empty() ? "empty" : "'scalar' (a dataset of no dimension)"));
     }
     if (i < dims.size()) ++rank;
@@ -215,11 +150,12 @@ std::size_t dims_rank(std::string_view dims) {
   return rank;
 }
 
-std::span<const DatasetSchema> dataset_schemas() {
-  return kSchemas;
+std::span<const DatasetSpec> store_dataset_specs() {
+  return kStoreDatasets;
 }
 
-const DatasetSchema* dataset_schema(std::string_view relative, std::string_view task) {
+const DatasetSpec* dataset_spec_of(std::string_view relative,
+                                   std::span<const DatasetSpecs> task_specs) {
   // fits/<basis>/<point>/rest -> "fit:rest"
   if (relative.starts_with("fits/")) {
     const std::size_t basis_end = relative.find('/', 5);
@@ -228,16 +164,17 @@ const DatasetSchema* dataset_schema(std::string_view relative, std::string_view 
     if (point_end == std::string_view::npos) return nullptr;
     std::string key(kFitPrefix);
     key += relative.substr(point_end + 1);
-    return find_schema(key, task);
+    return find_spec(key, task_specs);
   }
   if (relative.starts_with(kFitPrefix)) return nullptr;
-  return find_schema(relative, task);
+  return find_spec(relative, task_specs);
 }
 
-void describe_datasets(Hdf5File& file, const std::string& run_group, std::string_view task) {
+void describe_datasets(Hdf5File& file, const std::string& run_group,
+                       std::span<const DatasetSpecs> task_specs) {
   std::optional<Hdf5File::Object> group = file.open_hard_link(run_group);
   if (!group) throw std::logic_error(run_group + " is not a hard link");
-  describe_below(*group, "", task);
+  describe_below(*group, "", task_specs);
 }
 
 void describe_table(Hdf5File& file, const std::string& path, std::string_view description) {
@@ -246,21 +183,16 @@ void describe_table(Hdf5File& file, const std::string& path, std::string_view de
   describe(*table, "row", "", description);
 }
 
-std::string dataset_schema_markdown() {
+std::string dataset_schema_markdown(std::span<const DatasetSpecs> declared) {
   std::string text =
-      "| dataset (task: that task's entry; else every task's) | dims | units | description |\n"
-      "|---|---|---|---|\n";
-  for (const DatasetSchema& schema : kSchemas) {
-    std::string path(schema.path);
-    if (path.starts_with(kFitPrefix)) {
-      path = "fits/<basis>/<point>/" + path.substr(kFitPrefix.size());
-    }
-    if (!schema.task.empty())
-      path += "` (" + std::string(schema.task) + ")";
-    else
-      path += "`";
-    text += "| `" + path + " | " + std::string(schema.dims) + " | " + std::string(schema.units) +
-            " | " + std::string(schema.description) + " |\n";
+      "| dataset | declared by | dims | units | description |\n"
+      "|---|---|---|---|---|\n";
+  append_markdown_rows(text, kStoreDeclarer, kStoreDatasets);
+  std::vector<std::string_view> written;
+  for (const DatasetSpecs& list : declared) {
+    if (std::find(written.begin(), written.end(), list.declared_by) != written.end()) continue;
+    written.push_back(list.declared_by);
+    append_markdown_rows(text, list.declared_by, list.specs);
   }
   return text;
 }

@@ -446,7 +446,8 @@ std::string stage_run(Hdf5File& file, const JobSpec& job, const RunRecord& recor
     for (const AxisAssignment& value : study_values) axes += (axes.empty() ? "" : ",") + value.key;
     file.write_string_attribute(staging + "/fit_metrics", kStudyAxesAttribute, axes);
   }
-  describe_datasets(file, staging, job.task);  // dims, units, description (dataset_schema.hpp)
+  // dims, units, description (dataset_schema.hpp): the store's and the task's declarations
+  describe_datasets(file, staging, record.dataset_specs);
   file.write_int64_attribute(staging, kRunDigestAttribute,
                              static_cast<std::int64_t>(run_digest(file, staging)));
   file.flush();

@@ -1,6 +1,7 @@
 #include "engine/tasks/continuous_protocol.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -435,6 +436,34 @@ RunRecord run_continuous_protocol(const ContinuousEnvironment& env,
 
   record.fits = fit_points(ctx, points);
   return record;
+}
+
+std::vector<DatasetSpecs> continuous_dataset_specs(std::span<const DatasetSpecs> own) {
+  static constexpr std::array kContinuousDatasets = {
+      DatasetSpec{"observation_scale", "observation_dim", "task state units",
+                  "the divisor of each observation dimension before the SOM and the kernels "
+                  "([<task>.scale])"},
+      DatasetSpec{"som/prototypes", "node,observation_dim", "scaled state units",
+                  "the prototype of each SOM unit (observation / observation_scale)"},
+      DatasetSpec{"som/grid", "node,grid_axis", "index",
+                  "(row, column) of each unit on the SOM grid"},
+      DatasetSpec{"som/quantization_error", "epoch", "scaled state units",
+                  "mean distance to the BMU after each epoch"},
+      DatasetSpec{"state_units", "state", "node id",
+                  "the BMU of every observation of the walks, in series order"},
+      DatasetSpec{"graph/occupied", "node", "flag",
+                  "1 if an observation has the SOM unit as its BMU"},
+      DatasetSpec{"fit:unit_policy", "node", "action code",
+                  "greedy action at each SOM unit's prototype"},
+      DatasetSpec{"fit:evaluation/returns", "episode", "reward", "the return of each test episode"},
+      DatasetSpec{"fit:evaluation/trajectory_*", "step,state_field", "task state units",
+                  "the simulator's state along the test episode, the start first "
+                  "(sims/<task>/README.md)"},
+  };
+  std::vector<DatasetSpecs> specs(own.begin(), own.end());
+  specs.push_back({"continuous tasks", kContinuousDatasets});
+  specs.push_back(graph_dataset_specs());
+  return specs;
 }
 
 }  // namespace ggk::engine

@@ -132,6 +132,12 @@ struct ContinuousProtocol {
 std::vector<MetricSpec> continuous_metric_specs(const ContinuousEnvironment& env,
                                                 const ContinuousProtocol& protocol);
 
+// A continuous task's TaskDefinition::datasets: `own` (the task's declarations,
+// which override the protocol's for the same path), then the continuous
+// protocol's (observation_scale, the SOM, state_units, a fit's unit_policy and
+// evaluation), then graph_dataset_specs().
+std::vector<DatasetSpecs> continuous_dataset_specs(std::span<const DatasetSpecs> own = {});
+
 // The runs: one run of the protocol for every sweep point. Throws only on
 // programmer errors; a fit that cannot start (more kernels than occupied units,
 // a failed eigensolve) or whose LSPI system fails is recorded with its status.

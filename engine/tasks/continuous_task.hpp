@@ -43,7 +43,8 @@ TaskDefinition continuous_task_definition(std::string_view name) {
           [](const JobSpec& job) {
             const auto& config = task_config_as<Config>(job);
             return continuous_metric_specs(Environment(config), config.protocol);
-          }};
+          },
+          continuous_dataset_specs()};
 }
 
 }  // namespace ggk::engine

@@ -1,6 +1,7 @@
 #include "engine/tasks/discrete_protocol.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -489,6 +490,24 @@ RunMemoryEstimate estimate_discrete_run(const DiscreteSizes& sizes,
   estimate.record_bytes =
       record_samples + graph_bytes(moves, states) + states * (d + 1.0) * 8.0 + fits;
   return estimate;
+}
+
+std::vector<DatasetSpecs> discrete_dataset_specs(std::span<const DatasetSpecs> own) {
+  static constexpr std::array kDiscreteDatasets = {
+      DatasetSpec{"start_states", "start", "node id",
+                  "the states the goal test starts from, the index of steps_to_goal (maze, arm)"},
+      DatasetSpec{"graph/visited", "node", "flag",
+                  "1 if a sample starts or ends there (maze, arm)"},
+      DatasetSpec{"fit:state_values", "state", "return", "V(s) = max_a Q(s, a)"},
+      DatasetSpec{"fit:steps_to_goal", "start", "steps",
+                  "greedy steps from each of start_states to a goal, -1 = failed"},
+      DatasetSpec{"fit:trajectory_*", "step", "node id",
+                  "the states of the greedy walk from the named start, the start first"},
+  };
+  std::vector<DatasetSpecs> specs(own.begin(), own.end());
+  specs.push_back({"discrete tasks", kDiscreteDatasets});
+  specs.push_back(graph_dataset_specs());
+  return specs;
 }
 
 }  // namespace ggk::engine

@@ -88,6 +88,11 @@ std::vector<MetricSpec> discrete_metric_specs(std::span<const MetricSpec> policy
 // The names of discrete_metric_specs() for a goal task without named starts.
 const std::vector<std::string>& discrete_metric_names();
 
+// A discrete task's TaskDefinition::datasets: `own` (the task's declarations),
+// then the discrete protocol's (start_states, graph/visited, a fit's
+// state_values, steps_to_goal and trajectories), then graph_dataset_specs().
+std::vector<DatasetSpecs> discrete_dataset_specs(std::span<const DatasetSpecs> own = {});
+
 // What a run's memory depends on, known before the environment is built.
 struct DiscreteSizes {
   double states = 0.0;

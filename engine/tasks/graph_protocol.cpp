@@ -1,6 +1,7 @@
 #include "engine/tasks/graph_protocol.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <limits>
 #include <stdexcept>
@@ -168,6 +169,17 @@ void add_iteration_history(
     if (!specs[i].tested) continue;
     fit.arrays.push_back({"history/" + specs[i].name, {iterations}, std::move(series[i])});
   }
+}
+
+DatasetSpecs graph_dataset_specs() {
+  static constexpr std::array kGraphDatasets = {
+      DatasetSpec{"fit:laplacian_eigenvalues", "eigenvector", "1 (Laplacian eigenvalue)",
+                  "basis pvf: the p smallest eigenvalues of the graph's Laplacian, ascending"},
+      DatasetSpec{"fit:history/weights", "iteration,coefficient", "", "w of every iteration"},
+      DatasetSpec{"fit:history/*", "iteration", "as the metric",
+                  "the task's test of every iteration's greedy policy (a metric)"},
+  };
+  return {"graph tasks", kGraphDatasets};
 }
 
 }  // namespace ggk::engine

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "engine/job/sweep.hpp"
+#include "engine/tasks/dataset_spec.hpp"
 #include "engine/tasks/metric_spec.hpp"
 #include "engine/tasks/run_record.hpp"
 #include "kernels/csr_graph.hpp"
@@ -34,6 +35,10 @@ namespace ggk::engine {
 // (edges, median_degree, geodesic_stretch per run, kernel_gap per fit;
 // engine/tasks/README.md). All means; lspi_iterations, graph_nodes and edges integers.
 const std::vector<MetricSpec>& graph_metric_specs();
+
+// The datasets every graph task's fits add (dataset_spec.hpp): a PVF basis's
+// eigenvalues and the iteration history (weights, the tested metrics).
+DatasetSpecs graph_dataset_specs();
 
 // A fit's metrics by name, in the order of `specs` (which must outlive it).
 class FitMetrics {

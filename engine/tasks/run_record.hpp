@@ -1,8 +1,9 @@
 #pragma once
 // Everything one run produces, as plain data: what a task's compute_run returns
 // (computed in parallel) and the store writes (on the one writer thread). Includes
-// nothing else of tasks/ but the metrics' vocabulary (metric_spec.hpp), so the
-// store may read it without knowing any task.
+// nothing else of tasks/ but the vocabulary of metrics and datasets
+// (metric_spec.hpp, dataset_spec.hpp), so the store may read it without knowing
+// any task.
 
 #include <cstdint>
 #include <string>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "engine/job/sweep.hpp"
+#include "engine/tasks/dataset_spec.hpp"
 #include "engine/tasks/metric_spec.hpp"
 #include "kernels/csr_graph.hpp"
 #include "kernels/eigen_types.hpp"
@@ -68,6 +70,9 @@ struct RunRecord {
   // written as the run's metric_specs; the integer ones (lspi_iterations, ...)
   // are int64 columns of fit_metrics and int64 attributes of the fit groups.
   std::vector<MetricSpec> metric_specs;
+  // The task's declarations of the arrays it adds (TaskDefinition::datasets, set
+  // by the runner): the store describes each dataset by them (dataset_spec.hpp).
+  std::vector<DatasetSpecs> dataset_specs;
   std::vector<FitRecord> fits;  // one per sweep point, in sweep order
   // The fits are those a stored complete run lacks (WorkUnit::points): the
   // store extends that run with them (store/run_extension.hpp).

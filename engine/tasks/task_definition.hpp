@@ -12,6 +12,7 @@
 #include "engine/job/job_spec.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/task_table.hpp"
+#include "engine/tasks/dataset_spec.hpp"
 #include "engine/tasks/metric_spec.hpp"
 #include "engine/tasks/run_memory.hpp"
 #include "engine/tasks/run_record.hpp"
@@ -43,6 +44,10 @@ struct TaskDefinition {
   RunComputation compute_run = nullptr;
   RunMemoryEstimator estimate_run_bytes = nullptr;
   MetricSpecsOf metric_specs = nullptr;
+  // What its runs add to a results file beyond what every run has
+  // (dataset_spec.hpp): its own declarations first, then its protocols'. The
+  // runner hands them to the store with each run (RunRecord::dataset_specs).
+  std::vector<DatasetSpecs> datasets;
 };
 
 }  // namespace ggk::engine

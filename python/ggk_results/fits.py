@@ -57,7 +57,7 @@ def _start_states(f, run, task, state_count, starts):
 
 
 def dims_of(dataset, fallback):
-    """A dataset's axis names: its `dims` attribute (engine/store/dataset_schema.cpp),
+    """A dataset's axis names: its `dims` attribute (engine/tasks/dataset_spec.hpp),
     or `fallback` for a file written before datasets named their axes."""
     dims = dataset.attrs.get("dims")
     return tuple(text(dims).split(",")) if dims is not None else tuple(fallback)

@@ -2,6 +2,7 @@
 
 #include "engine/tasks/arm/arm_table.hpp"
 
+#include <array>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -132,7 +133,28 @@ RunMemoryEstimate estimate_arm_run(const sims::arm::ArmConfig& config, const Job
   return estimate;
 }
 
+// The arm's own arrays: its joint grid and its workspace's geometry.
+constexpr std::array kArmDatasets = {
+    DatasetSpec{"grid/state_of", "shoulder,elbow", "node id",
+                "arm: the state of each joint-grid cell, -1 = collision"},
+    DatasetSpec{"grid/goal", "shoulder,elbow", "flag", "arm: 1 where the cell is a goal state"},
+    DatasetSpec{"workspace/rectangles", "rectangle,corner_xy", "workspace units",
+                "arm obstacles: min x, min y, max x, max y"},
+    DatasetSpec{"workspace/discs", "disc,disc_field", "workspace units",
+                "arm obstacles: centre x, y, radius"},
+    DatasetSpec{"workspace/object", "disc_field", "workspace units",
+                "arm: the object, centre x, y, radius"},
+    DatasetSpec{"workspace/pose_A", "joint_point,xy", "workspace units",
+                "arm: base, elbow and hand of pose A"},
+    DatasetSpec{"workspace/pose_A_deg", "joint", "degrees", "arm: shoulder and elbow angle of A"},
+    DatasetSpec{"workspace/goal_poses", "goal,pose_xy", "workspace units",
+                "arm: base, elbow and hand (x, y each) of each goal pose"},
+    DatasetSpec{"workspace/goal_poses_deg", "goal,joint", "degrees",
+                "arm: shoulder and elbow angle of each goal pose"},
+};
+
 TaskDefinition arm_task_definition() {
+  const DatasetSpecs own[] = {{"arm", kArmDatasets}};
   return {{"arm",
            [](const TomlTableReader& job, const std::filesystem::path&,
               std::vector<JobInput>&) -> std::any { return parse_arm_table(job); }},
@@ -146,7 +168,8 @@ TaskDefinition arm_task_definition() {
             const std::string named_starts[] = {kArmStartName};
             return discrete_metric_specs({}, named_starts,
                                          arm_protocol(task_config_as<sims::arm::ArmConfig>(job)));
-          }};
+          },
+          discrete_dataset_specs(own)};
 }
 
 }  // namespace ggk::engine

@@ -2,6 +2,8 @@
 
 #include "engine/tasks/chain/chain_table.hpp"
 
+#include <array>
+
 namespace ggk::engine {
 
 namespace chain = sims::chain;
@@ -69,7 +71,13 @@ RunMemoryEstimate estimate_chain_run(const JobSpec& job) {
 
 }  // namespace
 
+constexpr std::array kChainDatasets = {
+    DatasetSpec{"optimal_actions", "state,action", "flag",
+                "chain: 1 where the action is optimal by value iteration"},
+};
+
 TaskDefinition chain_task_definition() {
+  const DatasetSpecs own[] = {{"chain", kChainDatasets}};
   return {{"chain",
            [](const TomlTableReader& job, const std::filesystem::path&,
               std::vector<JobInput>&) -> std::any { return parse_chain_table(job); }},
@@ -78,7 +86,8 @@ TaskDefinition chain_task_definition() {
           [](const JobSpec& job) {
             return discrete_metric_specs(chain_policy_metrics(), {},
                                          chain_protocol(task_config_as<chain::ChainConfig>(job)));
-          }};
+          },
+          discrete_dataset_specs(own)};
 }
 
 }  // namespace ggk::engine

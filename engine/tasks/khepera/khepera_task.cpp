@@ -1,6 +1,7 @@
 #include "engine/tasks/khepera/khepera_task.hpp"
 
 #include <algorithm>
+#include <array>
 #include <memory>
 #include <string>
 
@@ -115,7 +116,47 @@ RunMemoryEstimate estimate_khepera_run(const KheperaTaskConfig& config, const Jo
   return estimate_continuous_run(sizes, config.protocol, job);
 }
 
+// The Khepera's own arrays (its arena and robot, its undone steps) and its
+// readings' units where they differ from the continuous protocol's.
+constexpr std::array kKheperaDatasets = {
+    DatasetSpec{"samples/collisions", "sample", "flag",
+                "1 if the random step was undone (khepera)"},
+    DatasetSpec{"graph/occupied", "node", "flag",
+                "1 if a reading has the SOM unit as its BMU (khepera)"},
+    DatasetSpec{"som/prototypes", "node,sensor", "IR reading",
+                "khepera: the prototype of each SOM unit"},
+    DatasetSpec{"som/grid", "node,grid_axis", "index",
+                "khepera: (row, column) of each unit on the SOM grid"},
+    DatasetSpec{"som/quantization_error", "epoch", "IR reading",
+                "khepera: mean distance to the BMU after each epoch"},
+    DatasetSpec{"state_units", "state", "node id",
+                "khepera: the BMU of every reading of the walks (series k, reading t: row "
+                "k (steps + 1) + t)"},
+    DatasetSpec{"arena/box", "box_field", "cm", "khepera: min x, min y, max x, max y, walled"},
+    DatasetSpec{"arena/segments", "segment,segment_field", "cm", "khepera: a x, a y, b x, b y"},
+    DatasetSpec{"arena/rectangles", "rectangle,corner_xy", "cm",
+                "khepera: min x, min y, max x, max y"},
+    DatasetSpec{"arena/rotated_rectangles", "rectangle,rotated_field", "cm, degrees",
+                "khepera: centre x, y, width, height, angle (degrees)"},
+    DatasetSpec{"arena/discs", "disc,disc_field", "cm", "khepera: centre x, y, radius"},
+    DatasetSpec{"arena/start", "pose", "cm, rad", "khepera: start x, y, heading"},
+    DatasetSpec{"robot/radius", "value", "cm", "khepera: the body's radius"},
+    DatasetSpec{"robot/sensors", "sensor,mount_field", "cm, degrees",
+                "khepera: each IR sensor's mount x, y, heading"},
+    DatasetSpec{"robot/start_rays", "ray,ray_field", "cm, flag",
+                "khepera: three rays per sensor at the start pose: from x, y, to x, y, seen"},
+    DatasetSpec{"robot/start_readings", "sensor", "IR reading",
+                "khepera: the noiseless readings at the start pose"},
+    DatasetSpec{"fit:unit_policy", "node", "action code",
+                "khepera: greedy action at each SOM unit's prototype"},
+    DatasetSpec{"fit:evaluation/returns", "episode", "reward",
+                "khepera: the return of each evaluation episode"},
+    DatasetSpec{"fit:evaluation/trajectory_*", "step,pose", "cm, rad",
+                "khepera: x, y, heading of the episode's poses from the start"},
+};
+
 TaskDefinition khepera_task_definition() {
+  const DatasetSpecs own[] = {{"khepera", kKheperaDatasets}};
   return {{"khepera",
            [](const TomlTableReader& job, const std::filesystem::path& job_dir,
               std::vector<JobInput>& inputs) -> std::any {
@@ -129,7 +170,8 @@ TaskDefinition khepera_task_definition() {
           },
           [](const JobSpec& job) {
             return khepera_metric_specs(task_config_as<KheperaTaskConfig>(job));
-          }};
+          },
+          continuous_dataset_specs(own)};
 }
 
 }  // namespace ggk::engine

@@ -62,7 +62,8 @@ TaskDefinition maze_task_definition() {
             const DiscreteProtocol protocol{config.series, config.steps_per_series,
                                             config.test_max_steps};
             return discrete_metric_specs({}, {}, protocol);  // the goal test, no named start
-          }};
+          },
+          discrete_dataset_specs()};
 }
 
 }  // namespace ggk::engine

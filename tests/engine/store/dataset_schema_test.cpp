@@ -1,6 +1,7 @@
 // The axes, units and descriptions of a run's datasets: every dataset the writer
-// makes is described, a dataset missing from the schema is refused, and
-// results/README.md's table is the schema's.
+// makes is described by the store's declarations or its task's, a dataset nobody
+// declared is refused, and results/README.md's table is the store's and every
+// registered task's declarations.
 
 #include "engine/store/dataset_schema.hpp"
 
@@ -18,6 +19,7 @@
 
 #include "engine/job/sweep.hpp"
 #include "engine/store/run_store.hpp"
+#include "engine/tasks/task_list.hpp"
 
 namespace ggk::engine {
 namespace {
@@ -25,27 +27,52 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kBegin =
-    "<!-- dataset schema: generated from engine/store/dataset_schema.cpp -->";
+    "<!-- dataset schema: generated from the store's and the tasks' declarations -->";
+
+// The declarations of a registered task.
+std::span<const DatasetSpecs> declared_by(std::string_view task) {
+  return find_task(task)->datasets;
+}
+
+// Every registered task's lists, in task order.
+std::vector<DatasetSpecs> every_task_declaration() {
+  std::vector<DatasetSpecs> all;
+  for (const TaskDefinition& task : registered_tasks()) {
+    all.insert(all.end(), task.datasets.begin(), task.datasets.end());
+  }
+  return all;
+}
 constexpr const char* kEnd = "<!-- end of dataset schema -->";
 
 TEST(DatasetSchema, FindsRunAndFitDatasets) {
-  ASSERT_NE(dataset_schema("samples/actions"), nullptr);
-  EXPECT_EQ(dataset_schema("samples/actions")->dims, "sample");
-  EXPECT_EQ(dataset_schema("graph/nodes")->dims, "node,observation_dim");
+  ASSERT_NE(dataset_spec_of("samples/actions"), nullptr);
+  EXPECT_EQ(dataset_spec_of("samples/actions")->dims, "sample");
+  EXPECT_EQ(dataset_spec_of("graph/nodes")->dims, "node,observation_dim");
   const std::string fit = "fits/ggk/k_0016_sigma5_brm_lambda1e-06/";
-  EXPECT_EQ(dataset_schema(fit + "history/weights")->dims, "iteration,coefficient");
-  EXPECT_EQ(dataset_schema(fit + "history/success_rate")->dims, "iteration");  // history/*
-  EXPECT_EQ(dataset_schema(fit + "steps_to_goal")->dims, "start");
-  EXPECT_EQ(dataset_schema(fit + "trajectory_A")->dims, "step");
-  // A task's own entry first (the Khepera's poses), else every task's.
-  EXPECT_EQ(dataset_schema(fit + "evaluation/trajectory_3", "khepera")->dims, "step,pose");
-  EXPECT_EQ(dataset_schema(fit + "evaluation/trajectory_3", "pendulum")->dims, "step,state_field");
-  EXPECT_EQ(dataset_schema(fit + "evaluation/trajectory_3")->dims, "step,state_field");
-  EXPECT_EQ(dataset_schema("som/prototypes", "khepera")->units, "IR reading");
-  EXPECT_EQ(dataset_schema("samples/actions", "khepera")->dims, "sample");
-  EXPECT_EQ(dataset_schema("steps_to_goal"), nullptr);  // a fit's, not a run's
-  EXPECT_EQ(dataset_schema("fit:policy"), nullptr);
-  EXPECT_EQ(dataset_schema("no_such_array"), nullptr);
+  const auto maze = declared_by("maze");
+  EXPECT_EQ(dataset_spec_of(fit + "history/weights", maze)->dims, "iteration,coefficient");
+  EXPECT_EQ(dataset_spec_of(fit + "history/rcond")->dims, "iteration");               // the store's
+  EXPECT_EQ(dataset_spec_of(fit + "history/success_rate", maze)->dims, "iteration");  // history/*
+  EXPECT_EQ(dataset_spec_of(fit + "steps_to_goal", maze)->dims, "start");
+  EXPECT_EQ(dataset_spec_of(fit + "trajectory_A", declared_by("arm"))->dims, "step");
+  // A task's own declaration first (the Khepera's poses), then its protocol's.
+  EXPECT_EQ(dataset_spec_of(fit + "evaluation/trajectory_3", declared_by("khepera"))->dims,
+            "step,pose");
+  EXPECT_EQ(dataset_spec_of(fit + "evaluation/trajectory_3", declared_by("pendulum"))->dims,
+            "step,state_field");
+  EXPECT_EQ(dataset_spec_of("som/prototypes", declared_by("khepera"))->units, "IR reading");
+  EXPECT_EQ(dataset_spec_of("som/prototypes", declared_by("pendulum"))->units,
+            "scaled state units");
+  EXPECT_EQ(dataset_spec_of("samples/actions", declared_by("khepera"))->dims, "sample");
+  // What only a task declares is unknown without its declarations, and another
+  // task's arrays are not this task's.
+  EXPECT_EQ(dataset_spec_of(fit + "steps_to_goal"), nullptr);
+  EXPECT_EQ(dataset_spec_of("samples/collisions", declared_by("maze")), nullptr);
+  EXPECT_EQ(dataset_spec_of("optimal_actions", declared_by("arm")), nullptr);
+  EXPECT_NE(dataset_spec_of("optimal_actions", declared_by("chain")), nullptr);
+  EXPECT_EQ(dataset_spec_of("steps_to_goal", maze), nullptr);  // a fit's, not a run's
+  EXPECT_EQ(dataset_spec_of("fit:policy"), nullptr);
+  EXPECT_EQ(dataset_spec_of("no_such_array", maze), nullptr);
 }
 
 class DescribedRunTest : public ::testing::Test {
@@ -76,6 +103,9 @@ class DescribedRunTest : public ::testing::Test {
     record_.action_names = {"up", "down", "left", "right"};
     record_.arrays = {{"start_states", {1}, {0}, ElementType::kInt32},
                       {"robot/radius", {1}, {2.6}}};  // shape (1,): one axis
+    // The maze's declarations and, for robot/radius, the Khepera's own list.
+    record_.dataset_specs = {declared_by("khepera").front()};
+    for (const DatasetSpecs& list : declared_by("maze")) record_.dataset_specs.push_back(list);
     FitRecord fit;
     fit.point = expand_sweep(job_).front();
     fit.status = "converged";
@@ -139,11 +169,23 @@ TEST_F(DescribedRunTest, ADatasetOutsideTheSchemaIsRefusedNamingIt) {
     FAIL() << "an undescribed dataset was written";
   } catch (const std::logic_error& e) {
     EXPECT_NE(std::string(e.what()).find("surprise"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("dataset_schema.cpp"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("dataset_spec.hpp"), std::string::npos) << e.what();
   }
   record_.fits.front().arrays.back() = {"steps_to_goal", {1, 1}, {3}, ElementType::kInt32};
   record_.fits.front().arrays.erase(record_.fits.front().arrays.begin());
-  EXPECT_THROW(write_run(file, job_, record_), std::logic_error);  // rank 2, schema 1
+  EXPECT_THROW(write_run(file, job_, record_), std::logic_error);  // rank 2, declared 1
+}
+
+// A task's arrays need its declarations: the same record without them is refused.
+TEST_F(DescribedRunTest, ATasksArrayWithoutItsDeclarationsIsRefused) {
+  record_.dataset_specs.clear();
+  Hdf5File file = Hdf5File::create(dir_ / "r.h5");
+  try {
+    write_run(file, job_, record_);
+    FAIL() << "the maze's arrays were written without its declarations";
+  } catch (const std::logic_error& e) {
+    EXPECT_NE(std::string(e.what()).find("has no declaration"), std::string::npos) << e.what();
+  }
 }
 
 // "scalar" names a dataset of no dimension; every other entry names one axis per
@@ -155,8 +197,13 @@ TEST(DatasetSchema, DimsNameTheRankExactly) {
   EXPECT_THROW(dims_rank(""), std::logic_error);
   EXPECT_THROW(dims_rank("node,,sensor"), std::logic_error);
   EXPECT_THROW(dims_rank("node,scalar"), std::logic_error);
-  for (const DatasetSchema& schema : dataset_schemas()) {
-    EXPECT_NO_THROW(dims_rank(schema.dims)) << schema.path;
+  for (const DatasetSpec& spec : store_dataset_specs()) {
+    EXPECT_NO_THROW(dims_rank(spec.dims)) << spec.path;
+  }
+  for (const DatasetSpecs& list : every_task_declaration()) {
+    for (const DatasetSpec& spec : list.specs) {
+      EXPECT_NO_THROW(dims_rank(spec.dims)) << list.declared_by << ": " << spec.path;
+    }
   }
 }
 
@@ -173,9 +220,10 @@ TEST(DatasetSchema, ResultsReadmeHoldsTheSchemasTable) {
   ASSERT_NE(begin, std::string::npos) << readme << " has no line " << kBegin;
   ASSERT_NE(end, std::string::npos) << readme << " has no line " << kEnd;
   const std::size_t first = begin + std::string(kBegin).size() + 1;
-  EXPECT_EQ(all.substr(first, end - first), dataset_schema_markdown())
-      << readme << ": the table between the two marks is not the schema's; put this there:\n"
-      << dataset_schema_markdown();
+  const std::string table = dataset_schema_markdown(every_task_declaration());
+  EXPECT_EQ(all.substr(first, end - first), table)
+      << readme << ": the table between the two marks is not the declarations'; put this there:\n"
+      << table;
 }
 
 }  // namespace

@@ -33,7 +33,10 @@ JobSpec ci_job() {
 }
 
 RunRecord compute(const JobSpec& job, const std::vector<SweepPoint>& points) {
-  return find_task(job.task)->compute_run(job, 0, points);
+  const TaskDefinition* task = find_task(job.task);
+  RunRecord record = task->compute_run(job, 0, points);
+  record.dataset_specs = task->datasets;
+  return record;
 }
 
 Hdf5File new_file(const fs::path& path, const JobSpec& job) {

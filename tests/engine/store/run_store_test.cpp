@@ -160,6 +160,13 @@ TEST_F(RunStoreTest, NamedArraysAreStoredAsTheirElementType) {
       {"start_states", {2}, {0, 4294967296.0}, ElementType::kInt64},
       {"graph/visited", {3}, {1, 0, 1}, ElementType::kUInt8},
   };
+  static constexpr DatasetSpec kTyped[] = {
+      {"som/quantization_error", "epoch", "", "a float64 array"},
+      {"grid/state_of", "row,column", "", "an int32 matrix"},
+      {"start_states", "start", "", "an int64 array"},
+      {"graph/visited", "node", "", "a uint8 array"},
+  };
+  record.dataset_specs = {{"this test", kTyped}};
   {
     Hdf5File file = Hdf5File::create(dir_ / "typed.h5");
     write_run(file, job, record);

@@ -1,5 +1,9 @@
-// The registered tasks (engine/tasks/task_list.hpp): each one complete, and the
-// metrics they declare (kind, unit, meaning, range; tasks/metric_spec.hpp).
+// The registered tasks (engine/tasks/task_list.hpp): each one complete, and what
+// they declare (metrics: kind, unit, meaning, range, tasks/metric_spec.hpp;
+// datasets: axes, units, meaning, tasks/dataset_spec.hpp). Every test here walks
+// the task list, so a new task is checked without naming it; the checks are
+// functions of a TaskDefinition, and ANewTaskIsCheckedWithoutBeingNamed shows
+// them catching a throwaway task's omissions.
 
 #include "engine/tasks/task_list.hpp"
 
@@ -10,12 +14,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <set>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "engine/job/job_error.hpp"
 #include "engine/job/job_file.hpp"
 #include "engine/run/job_runner.hpp"
+#include "engine/store/dataset_schema.hpp"
 #include "engine/tasks/continuous_protocol.hpp"
 #include "engine/tasks/discrete_protocol.hpp"
 #include "engine/tasks/record_bytes.hpp"
@@ -24,6 +30,16 @@ namespace ggk::engine {
 namespace {
 
 namespace fs = std::filesystem;
+
+// The names of `tasks` that `covered` lacks: the tasks a per-task test missed.
+std::vector<std::string> uncovered(std::span<const TaskDefinition> tasks,
+                                   const std::set<std::string>& covered) {
+  std::vector<std::string> missed;
+  for (const TaskDefinition& task : tasks) {
+    if (covered.count(std::string(task.table.name)) == 0) missed.emplace_back(task.table.name);
+  }
+  return missed;
+}
 
 TEST(MemoryCheck, EveryTaskEstimatesItsRuns) {
   for (const TaskDefinition& task : registered_tasks()) {
@@ -59,10 +75,8 @@ TEST(KernelWidths, EveryTaskRefusesWidthsItsDistancesCannotUse) {
       }
     }
   }
-  for (const TaskDefinition& task : registered_tasks()) {
-    EXPECT_EQ(shipped.count(std::string(task.table.name)), 1u)
-        << "no job in jobs/ runs task " << task.table.name;
-  }
+  EXPECT_EQ(uncovered(registered_tasks(), shipped), std::vector<std::string>{})
+      << "no job in jobs/ runs these tasks";
 }
 
 // One run of each task's first shipped CI job (jobs/ci*.toml, in name order),
@@ -115,59 +129,154 @@ TEST(MemoryCheck, EveryTasksEstimateCoversItsCiRecord) {
     EXPECT_GE(estimate.record_bytes, held);
     EXPECT_GE(estimate.peak(1.0), held);
   }
-  for (const TaskDefinition& task : registered_tasks()) {
-    EXPECT_EQ(checked.count(std::string(task.table.name)), 1u)
-        << "no CI job (jobs/ci*.toml) runs task " << task.table.name;
-  }
+  EXPECT_EQ(uncovered(registered_tasks(), checked), std::vector<std::string>{})
+      << "no CI job (jobs/ci*.toml) runs these tasks";
 }
 
-// Every registered task declares, before any run, each metric its runs report:
-// the same declarations its run records (RunRecord::metric_specs), in the fits'
+// What `task` declares of its metrics, checked against one run of its CI job: the
+// same declarations its run records (RunRecord::metric_specs), in the fits'
 // column order, each with a unit, a meaning and a range that holds every value
-// of the run. A new task is checked by its CI job.
+// of the run. One line per problem; none when the declarations are right.
+std::vector<std::string> metric_declaration_problems(const TaskDefinition& task, const CiRun& run) {
+  std::vector<std::string> problems;
+  const auto problem = [&](const std::string& name, const std::string& what) {
+    problems.push_back(name + ": " + what);
+  };
+  if (task.metric_specs == nullptr) return {"no metric_specs"};
+  const std::vector<MetricSpec> declared = task.metric_specs(run.job);
+  if (declared.size() != run.record.metric_specs.size()) {
+    return {std::to_string(declared.size()) + " metrics declared, the run records " +
+            std::to_string(run.record.metric_specs.size())};
+  }
+  for (std::size_t m = 0; m < declared.size(); ++m) {
+    const MetricSpec& spec = declared[m];
+    const MetricSpec& recorded = run.record.metric_specs[m];
+    if (spec.name != recorded.name) problem(spec.name, "the run records " + recorded.name);
+    if (spec.kind != recorded.kind) problem(spec.name, "another kind than the run's");
+    if (spec.low != recorded.low || spec.high != recorded.high) {
+      problem(spec.name, "another range than the run's");
+    }
+    if (spec.unit.empty()) problem(spec.name, "no unit");
+    if (spec.meaning.empty()) problem(spec.name, "no meaning");
+    if (!(spec.low <= spec.high)) problem(spec.name, "low above high");
+  }
+  if (run.record.fits.empty()) problems.push_back("the run has no fits");
+  for (const FitRecord& fit : run.record.fits) {
+    if (fit.metrics.size() != declared.size()) {
+      problems.push_back("a fit reports " + std::to_string(fit.metrics.size()) + " metrics");
+      continue;
+    }
+    for (std::size_t m = 0; m < declared.size(); ++m) {
+      const auto& [name, value] = fit.metrics[m];
+      if (name != declared[m].name) problem(name, "reported where " + declared[m].name + " is");
+      if (std::isnan(value)) continue;
+      if (value < declared[m].low || value > declared[m].high) {
+        problem(name, std::to_string(value) + " outside its declared range");
+      }
+      if (declared[m].integer && value != std::trunc(value)) {
+        problem(name, std::to_string(value) + " is not a whole number");
+      }
+      if (declared[m].kind == MetricKind::kIndicator && value != 0.0 && value != 1.0) {
+        problem(name, std::to_string(value) + " is not 0 or 1");
+      }
+    }
+  }
+  return problems;
+}
+
+// The arrays of a run of `task` that its declarations (TaskDefinition::datasets)
+// and the store's leave undeclared, or declare with another number of axes: the
+// datasets the writer would refuse (store/dataset_schema.hpp).
+std::vector<std::string> undeclared_datasets(const TaskDefinition& task, const RunRecord& record) {
+  std::vector<std::string> undeclared;
+  const auto check = [&](const std::string& path, const NamedArray& array) {
+    const DatasetSpec* spec = dataset_spec_of(path, task.datasets);
+    if (spec == nullptr) {
+      undeclared.push_back(path);
+    } else if (dims_rank(spec->dims) != array.shape.size()) {
+      undeclared.push_back(path + " (" + std::to_string(array.shape.size()) + " axes, declared " +
+                           std::string(spec->dims) + ")");
+    }
+  };
+  for (const NamedArray& array : record.arrays) check(array.name, array);
+  for (const FitRecord& fit : record.fits) {
+    for (const NamedArray& array : fit.arrays) check("fits/basis/point/" + array.name, array);
+  }
+  return undeclared;
+}
+
+// Every registered task declares, before any run, each metric its runs report
+// (metric_declaration_problems), checked by its CI job.
 TEST(MetricSpecs, EveryTaskDeclaresEachMetricItsRunsReport) {
   const char* source_dir = std::getenv("GGK_SOURCE_DIR");
   if (source_dir == nullptr) GTEST_SKIP() << "GGK_SOURCE_DIR is not set (run through ctest)";
   std::set<std::string> checked;
   for (const CiRun& run : ci_runs(source_dir)) {
-    SCOPED_TRACE(run.path.string());
-    const TaskDefinition* task = find_task(run.job.task);
-    ASSERT_NE(task->metric_specs, nullptr);
-    const std::vector<MetricSpec> declared = task->metric_specs(run.job);
-    ASSERT_EQ(declared.size(), run.record.metric_specs.size());
-    for (std::size_t m = 0; m < declared.size(); ++m) {
-      const MetricSpec& spec = declared[m];
-      EXPECT_EQ(spec.name, run.record.metric_specs[m].name);
-      EXPECT_EQ(spec.kind, run.record.metric_specs[m].kind) << spec.name;
-      EXPECT_EQ(spec.low, run.record.metric_specs[m].low) << spec.name;
-      EXPECT_EQ(spec.high, run.record.metric_specs[m].high) << spec.name;
-      EXPECT_FALSE(spec.unit.empty()) << spec.name;
-      EXPECT_FALSE(spec.meaning.empty()) << spec.name;
-      EXPECT_LE(spec.low, spec.high) << spec.name;
-    }
-    ASSERT_FALSE(run.record.fits.empty());
-    for (const FitRecord& fit : run.record.fits) {
-      ASSERT_EQ(fit.metrics.size(), declared.size());
-      for (std::size_t m = 0; m < declared.size(); ++m) {
-        const auto& [name, value] = fit.metrics[m];
-        EXPECT_EQ(name, declared[m].name);
-        if (std::isnan(value)) continue;
-        EXPECT_GE(value, declared[m].low) << name;
-        EXPECT_LE(value, declared[m].high) << name;
-        if (declared[m].integer) {
-          EXPECT_EQ(value, std::trunc(value)) << name;
-        }
-        if (declared[m].kind == MetricKind::kIndicator) {
-          EXPECT_TRUE(value == 0.0 || value == 1.0) << name << " = " << value;
-        }
-      }
-    }
+    EXPECT_EQ(metric_declaration_problems(*find_task(run.job.task), run),
+              std::vector<std::string>{})
+        << run.path;
     checked.insert(run.job.task);
   }
-  for (const TaskDefinition& task : registered_tasks()) {
-    EXPECT_EQ(checked.count(std::string(task.table.name)), 1u)
-        << "no CI job (jobs/ci*.toml) runs task " << task.table.name;
+  EXPECT_EQ(uncovered(registered_tasks(), checked), std::vector<std::string>{})
+      << "no CI job (jobs/ci*.toml) runs these tasks";
+}
+
+// Every registered task declares each array its runs add (undeclared_datasets),
+// checked by its CI job: a new task's array is named here, not by the writer
+// refusing a run.
+TEST(DatasetSpecs, EveryTaskDeclaresEachArrayItsRunsAdd) {
+  const char* source_dir = std::getenv("GGK_SOURCE_DIR");
+  if (source_dir == nullptr) GTEST_SKIP() << "GGK_SOURCE_DIR is not set (run through ctest)";
+  std::set<std::string> checked;
+  for (const CiRun& run : ci_runs(source_dir)) {
+    EXPECT_EQ(undeclared_datasets(*find_task(run.job.task), run.record), std::vector<std::string>{})
+        << run.path;
+    checked.insert(run.job.task);
   }
+  EXPECT_EQ(uncovered(registered_tasks(), checked), std::vector<std::string>{})
+      << "no CI job (jobs/ci*.toml) runs these tasks";
+}
+
+// A task added to the list is checked without any test naming it: a throwaway
+// task (the chain under another name) that has no CI job, drops a declaration of
+// a metric and of an array, and declares a range its values leave, is caught by
+// each of the checks above.
+TEST(TaskList, ANewTaskIsCheckedWithoutBeingNamed) {
+  const char* source_dir = std::getenv("GGK_SOURCE_DIR");
+  if (source_dir == nullptr) GTEST_SKIP() << "GGK_SOURCE_DIR is not set (run through ctest)";
+  const CiRun* chain_run = nullptr;
+  for (const CiRun& run : ci_runs(source_dir)) {
+    if (run.job.task == "chain") chain_run = &run;
+  }
+  ASSERT_NE(chain_run, nullptr);
+  const TaskDefinition& chain = *find_task("chain");
+  ASSERT_EQ(metric_declaration_problems(chain, *chain_run), std::vector<std::string>{});
+  ASSERT_EQ(undeclared_datasets(chain, chain_run->record), std::vector<std::string>{});
+
+  TaskDefinition throwaway = chain;
+  throwaway.table.name = "throwaway";
+  std::vector<TaskDefinition> tasks(registered_tasks().begin(), registered_tasks().end());
+  tasks.push_back(throwaway);
+  std::set<std::string> covered;
+  for (const TaskDefinition& task : registered_tasks()) covered.emplace(task.table.name);
+  EXPECT_EQ(uncovered(tasks, covered), std::vector<std::string>{"throwaway"});
+
+  throwaway.datasets.erase(throwaway.datasets.begin());  // the chain's own: optimal_actions
+  EXPECT_EQ(undeclared_datasets(throwaway, chain_run->record),
+            std::vector<std::string>{"optimal_actions"});
+
+  throwaway.metric_specs = [](const JobSpec& job) {
+    std::vector<MetricSpec> specs = find_task("chain")->metric_specs(job);
+    specs.pop_back();
+    return specs;
+  };
+  EXPECT_EQ(metric_declaration_problems(throwaway, *chain_run).size(), 1u);
+  throwaway.metric_specs = [](const JobSpec& job) {
+    std::vector<MetricSpec> specs = find_task("chain")->metric_specs(job);
+    for (MetricSpec& spec : specs) spec.high = spec.low;  // every value left outside
+    return specs;
+  };
+  EXPECT_FALSE(metric_declaration_problems(throwaway, *chain_run).empty());
 }
 
 // The kinds the tasks declare: the shares of states or episodes are fractions,
