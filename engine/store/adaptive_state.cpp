@@ -110,20 +110,19 @@ std::optional<MetricRange> metric_range(const AdaptiveRule& rule, std::string_vi
   return std::nullopt;
 }
 
-AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule& rule,
-                             std::int32_t configurations, std::int32_t max_runs) {
-  AdaptiveState state;
-  state.runs_wanted.assign(static_cast<std::size_t>(configurations),
-                           std::min(rule.batch, max_runs));
-  state.key_names.resize(rule.comparisons.size());
-  if (contents.fits.empty()) return state;  // look 1 has no runs yet
+namespace {
 
-  // The compared metrics' columns and ranges.
-  struct Compared {
-    std::size_t column = 0;
-    MetricRange range;
-  };
-  std::vector<Compared> compared;
+// A compared metric: its column in the contents' metrics and its range.
+struct ComparedMetric {
+  std::size_t column = 0;
+  MetricRange range;
+};
+
+// The rule's metrics as columns with ranges; a metric the task does not report,
+// or one with no known range under a method that needs one, is a UsageError.
+std::vector<ComparedMetric> compared_metrics(const ResultsContents& contents,
+                                             const AdaptiveRule& rule) {
+  std::vector<ComparedMetric> compared;
   for (const std::string& metric : rule.metrics) {
     const auto at = std::find(contents.metric_names.begin(), contents.metric_names.end(), metric);
     if (at == contents.metric_names.end() || metric == "fit_seconds") {
@@ -147,6 +146,90 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
     }
     compared.push_back({static_cast<std::size_t>(at - contents.metric_names.begin()), *range});
   }
+  return compared;
+}
+
+// One cell (a pairing's metric) judged on the paired runs, computed so far, of
+// the runs the current look gives both its configurations (state.runs_wanted):
+// their differences' mean and confidence sequence at state.cell_level, and
+// whether the rule's target is met (+, -, narrow), still open, or failed (a NaN).
+// The caller sets `comparison` and the capped state. A value outside the
+// metric's range is a UsageError.
+AdaptiveCell judge_cell(const ResultsContents& contents, const AdaptiveRule& rule,
+                        const AdaptiveState& state, const Pairing& pairing,
+                        const ComparedMetric& metric, std::int32_t max_runs) {
+  AdaptiveCell cell;
+  cell.key = pairing.key;
+  cell.metric = contents.metric_names[metric.column];
+  cell.configuration_a = pairing.configuration_a;
+  cell.configuration_b = pairing.configuration_b;
+  std::int64_t n = 0;
+  if (cell.configuration_a >= 0 && cell.configuration_b >= 0) {
+    n = std::min(state.runs_wanted[static_cast<std::size_t>(cell.configuration_a)],
+                 state.runs_wanted[static_cast<std::size_t>(cell.configuration_b)]);
+  }
+  std::vector<double> differences;
+  bool failed = false;
+  for (std::int64_t r = 0; r < n; ++r) {
+    const auto a = pairing.a.find(r);
+    const auto b = pairing.b.find(r);
+    if (a == pairing.a.end() || b == pairing.b.end()) break;  // not yet computed
+    const double x = a->second->values[metric.column];
+    const double y = b->second->values[metric.column];
+    if (std::isnan(x) || std::isnan(y)) {
+      failed = true;
+      break;
+    }
+    for (const double v : {x, y}) {
+      if (!(v >= metric.range.low && v <= metric.range.high)) {
+        throw UsageError("[adaptive] range: " + cell.metric + " = " + as_text(TableValue{v}) +
+                         " in run " + std::to_string(r) + " lies outside its range [" +
+                         as_text(TableValue{metric.range.low}) + ", " +
+                         as_text(TableValue{metric.range.high}) +
+                         "]: the range must hold every value (give the one the task's physics "
+                         "bounds it by)");
+      }
+    }
+    differences.push_back(x - y);
+  }
+  cell.runs = static_cast<std::int64_t>(differences.size());
+  const double width = metric.range.high - metric.range.low;
+  if (failed) {
+    cell.state = CellState::kFailed;
+  } else if (differences.empty()) {
+    cell.mean = cell.lower = cell.upper = std::nan("");
+  } else {
+    double sum = 0.0;
+    for (const double d : differences) sum += d;
+    cell.mean = sum / static_cast<double>(differences.size());
+    const kernels::ConfidenceSequence sequence =
+        rule.method == AdaptiveMethod::kBernstein
+            ? kernels::confidence_sequence(differences, -width, width, state.cell_level)
+            : kernels::asymptotic_confidence_sequence(differences, state.cell_level, max_runs);
+    cell.lower = sequence.lower.back();
+    cell.upper = sequence.upper.back();
+    if (rule.target == AdaptiveTarget::kSign && cell.lower > 0.0) {
+      cell.state = CellState::kPositive;
+    } else if (rule.target == AdaptiveTarget::kSign && cell.upper < 0.0) {
+      cell.state = CellState::kNegative;
+    } else if (rule.target == AdaptiveTarget::kWidth && cell.upper - cell.lower < rule.width) {
+      cell.state = CellState::kNarrow;
+    }
+  }
+  return cell;
+}
+
+}  // namespace
+
+AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule& rule,
+                             std::int32_t configurations, std::int32_t max_runs) {
+  AdaptiveState state;
+  state.runs_wanted.assign(static_cast<std::size_t>(configurations),
+                           std::min(rule.batch, max_runs));
+  state.key_names.resize(rule.comparisons.size());
+  if (contents.fits.empty()) return state;  // look 1 has no runs yet
+
+  const std::vector<ComparedMetric> compared = compared_metrics(contents, rule);
 
   // Per comparison, its points of the other axes; each is one cell per metric.
   std::vector<std::vector<Pairing>> points;
@@ -182,73 +265,13 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
     state.cells.clear();
     for (std::size_t c = 0; c < points.size(); ++c) {
       for (const Pairing& pairing : points[c]) {
-        for (const Compared& metric : compared) {
+        for (const ComparedMetric& metric : compared) {
           if (const std::optional<AdaptiveCell>& earlier = decided[state.cells.size()]) {
             state.cells.push_back(*earlier);
             continue;
           }
-          AdaptiveCell cell;
+          AdaptiveCell cell = judge_cell(contents, rule, state, pairing, metric, max_runs);
           cell.comparison = c;
-          cell.key = pairing.key;
-          cell.metric = contents.metric_names[metric.column];
-          cell.configuration_a = pairing.configuration_a;
-          cell.configuration_b = pairing.configuration_b;
-          std::int64_t n = 0;
-          if (cell.configuration_a >= 0 && cell.configuration_b >= 0) {
-            n = std::min(state.runs_wanted[static_cast<std::size_t>(cell.configuration_a)],
-                         state.runs_wanted[static_cast<std::size_t>(cell.configuration_b)]);
-          }
-          std::vector<double> differences;
-          bool failed = false;
-          for (std::int64_t r = 0; r < n; ++r) {
-            const auto a = pairing.a.find(r);
-            const auto b = pairing.b.find(r);
-            if (a == pairing.a.end() || b == pairing.b.end()) break;  // not yet computed
-            const double x = a->second->values[metric.column];
-            const double y = b->second->values[metric.column];
-            if (std::isnan(x) || std::isnan(y)) {
-              failed = true;
-              break;
-            }
-            for (const double v : {x, y}) {
-              if (!(v >= metric.range.low && v <= metric.range.high)) {
-                throw UsageError(
-                    "[adaptive] range: " + cell.metric + " = " + as_text(TableValue{v}) +
-                    " in run " + std::to_string(r) + " lies outside its range [" +
-                    as_text(TableValue{metric.range.low}) + ", " +
-                    as_text(TableValue{metric.range.high}) +
-                    "]: the range must hold every value (give the one the task's physics "
-                    "bounds it by)");
-              }
-            }
-            differences.push_back(x - y);
-          }
-          cell.runs = static_cast<std::int64_t>(differences.size());
-          const double width = metric.range.high - metric.range.low;
-          if (failed) {
-            cell.state = CellState::kFailed;
-          } else if (differences.empty()) {
-            cell.mean = cell.lower = cell.upper = std::nan("");
-          } else {
-            double sum = 0.0;
-            for (const double d : differences) sum += d;
-            cell.mean = sum / static_cast<double>(differences.size());
-            const kernels::ConfidenceSequence sequence =
-                rule.method == AdaptiveMethod::kBernstein
-                    ? kernels::confidence_sequence(differences, -width, width, state.cell_level)
-                    : kernels::asymptotic_confidence_sequence(differences, state.cell_level,
-                                                              max_runs);
-            cell.lower = sequence.lower.back();
-            cell.upper = sequence.upper.back();
-            if (rule.target == AdaptiveTarget::kSign && cell.lower > 0.0) {
-              cell.state = CellState::kPositive;
-            } else if (rule.target == AdaptiveTarget::kSign && cell.upper < 0.0) {
-              cell.state = CellState::kNegative;
-            } else if (rule.target == AdaptiveTarget::kWidth &&
-                       cell.upper - cell.lower < rule.width) {
-              cell.state = CellState::kNarrow;
-            }
-          }
           if (cell.state == CellState::kOpen && complete && cell.runs >= max_runs) {
             cell.state = CellState::kCapped;
           }

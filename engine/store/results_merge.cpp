@@ -124,33 +124,12 @@ std::string finish_command(const ResultsHeader& shard, const std::string& progra
   return shell_command(words);
 }
 
-}  // namespace
-
-std::filesystem::path merging_path(const std::filesystem::path& output, pid_t pid) {
-  return output.string() + ".merging-" + std::to_string(pid);
-}
-
-void merge_results(const std::filesystem::path& output,
-                   std::span<const std::filesystem::path> shard_paths, const MergeOptions& options,
-                   std::ostream& log) {
-  std::error_code error;
-  const OutputLock lock = OutputLock::acquire(output);  // one writer per output
-  if (std::filesystem::exists(output, error)) {
-    throw UsageError("merge output " + output.string() +
-                     " exists; ggk merge writes a new file (remove it, or choose another name)");
-  }
-  std::vector<Shard> shards;
-  for (const std::filesystem::path& path : shard_paths) {
-    for (const Shard& earlier : shards) {
-      if (std::filesystem::equivalent(earlier.path, path, error)) {
-        throw UsageError(path.string() + " is named twice");
-      }
-    }
-    shards.push_back(open_shard(path));
-  }
+// Every shard holds the first one's job: the same job text (compared as parsed
+// TOML), task, --sweep options and inputs, computed under the same results
+// rules, and (options.check_run_options) the --set and --sweep options
+// expected. A UsageError names the first shard that differs and how.
+void check_one_job(const std::vector<Shard>& shards, const MergeOptions& options) {
   const ResultsHeader& first = shards.front().header;
-  const std::string& task = first.task;
-  const auto runs = static_cast<std::int32_t>(first.runs);
   for (const Shard& shard : shards) {
     // Besides the job text (compared as parsed TOML), the task and the inputs'
     // texts say which job a file holds.
@@ -181,18 +160,14 @@ void merge_results(const std::filesystem::path& output,
                        "): only shards of one job merge");
     }
   }
+}
 
-  // Where the runs live: the task, or a study's configuration groups, the same
-  // in every shard of one job.
-  const std::vector<std::string> locations = runs_locations(shards.front().file, task);
-  for (const Shard& shard : shards) {
-    if (runs_locations(shard.file, task) != locations) {
-      throw UsageError(shard.path.string() + " holds other run configurations than " +
-                       shards.front().path.string() + ": only shards of one job merge");
-    }
-  }
-  // Which shard holds each complete run of each location (listed from the
-  // files: the cost follows what they hold, not the job's run count).
+// Which shard holds each complete run of each location (listed from the files:
+// the cost follows what they hold, not the job's run count). A run complete in
+// two shards is a UsageError.
+std::vector<std::map<std::int32_t, std::size_t>> owners_of_runs(
+    const std::vector<Shard>& shards, const std::vector<std::string>& locations,
+    const std::string& task, std::int32_t runs) {
   std::vector<std::map<std::int32_t, std::size_t>> owners(locations.size());
   for (std::size_t l = 0; l < locations.size(); ++l) {
     for (std::size_t s = 0; s < shards.size(); ++s) {
@@ -208,6 +183,106 @@ void merge_results(const std::filesystem::path& output,
       }
     }
   }
+  return owners;
+}
+
+// Nothing copied is trusted unchecked: every run to merge reads back whole
+// (checksums, the run's shape: results_verify.hpp) before the output exists.
+void verify_runs_to_merge(const std::vector<Shard>& shards,
+                          const std::vector<std::string>& locations,
+                          const std::vector<std::map<std::int32_t, std::size_t>>& owners,
+                          const std::string& task) {
+  for (std::size_t l = 0; l < locations.size(); ++l) {
+    for (const auto& [run, s] : owners[l]) {
+      if (const auto damage = verify_run(shards[s].file, locations[l], run)) {
+        throw UsageError(shards[s].path.string() + ": run " + std::to_string(run) +
+                         (locations[l] == task ? std::string() : " of " + locations[l]) +
+                         " is damaged (" + *damage + "); compute it again with ggk run --resume " +
+                         "on that shard (the same command and -o as it was made with), then merge");
+      }
+    }
+  }
+}
+
+// The merged file at `temporary`: the first shard's header (as the whole job's),
+// each location's configuration attributes and owned runs, copied, and the
+// summary.
+void write_merged_file(const std::filesystem::path& temporary, const std::vector<Shard>& shards,
+                       const std::vector<std::string>& locations,
+                       const std::vector<std::map<std::int32_t, std::size_t>>& owners) {
+  const ResultsHeader& first = shards.front().header;
+  const std::string& task = first.task;
+  const auto runs = static_cast<std::int32_t>(first.runs);
+  Hdf5File merged = [&] {
+    try {
+      return Hdf5File::create(temporary, Hdf5File::CreateMode::kFailIfExists);
+    } catch (const std::exception& e) {
+      throw UsageError(e.what());
+    }
+  }();
+  ResultsHeader header = first;
+  header.runs_selected.reset();  // the merged file is the whole job's
+  write_results_header(merged, header);
+  merged.create_group("/" + task);
+  for (std::size_t l = 0; l < locations.size(); ++l) {
+    if (locations[l] != task) {  // a configuration group's own attributes
+      const Hdf5File& source = shards.front().file;
+      const std::optional<std::string> values = study_values_of(source, locations[l]);
+      if (!values) {
+        throw std::runtime_error(source.path().string() + ": /" + locations[l] +
+                                 " has no study_values");
+      }
+      write_configuration_group(merged, locations[l], configuration_of(source, locations[l]),
+                                *values);
+    }
+    for (const auto& [run, s] : owners[l]) {
+      merged.copy_from(shards[s].file, run_group(locations[l], run), run_group(locations[l], run));
+    }
+  }
+  write_summary(merged, task, runs);
+  merged.flush();
+}
+
+}  // namespace
+
+std::filesystem::path merging_path(const std::filesystem::path& output, pid_t pid) {
+  return output.string() + ".merging-" + std::to_string(pid);
+}
+
+void merge_results(const std::filesystem::path& output,
+                   std::span<const std::filesystem::path> shard_paths, const MergeOptions& options,
+                   std::ostream& log) {
+  std::error_code error;
+  const OutputLock lock = OutputLock::acquire(output);  // one writer per output
+  if (std::filesystem::exists(output, error)) {
+    throw UsageError("merge output " + output.string() +
+                     " exists; ggk merge writes a new file (remove it, or choose another name)");
+  }
+  std::vector<Shard> shards;
+  for (const std::filesystem::path& path : shard_paths) {
+    for (const Shard& earlier : shards) {
+      if (std::filesystem::equivalent(earlier.path, path, error)) {
+        throw UsageError(path.string() + " is named twice");
+      }
+    }
+    shards.push_back(open_shard(path));
+  }
+  const ResultsHeader& first = shards.front().header;
+  const std::string& task = first.task;
+  const auto runs = static_cast<std::int32_t>(first.runs);
+  check_one_job(shards, options);
+  // Where the runs live: the task, or a study's configuration groups, the same
+  // in every shard of one job.
+  const std::vector<std::string> locations = runs_locations(shards.front().file, task);
+  for (const Shard& shard : shards) {
+    if (runs_locations(shard.file, task) != locations) {
+      throw UsageError(shard.path.string() + " holds other run configurations than " +
+                       shards.front().path.string() + ": only shards of one job merge");
+    }
+  }
+  // Which shard holds each complete run of each location.
+  const std::vector<std::map<std::int32_t, std::size_t>> owners =
+      owners_of_runs(shards, locations, task, runs);
   // The runs complete in every location (a study's shards hold the same runs of
   // each configuration); a run missing anywhere is missing.
   std::map<std::int32_t, std::size_t> owner = owners.front();
@@ -225,51 +300,12 @@ void merge_results(const std::filesystem::path& output,
                      finish_command(first, options.program, output) + "`");
   }
 
-  // Nothing copied is trusted unchecked: every run to merge reads back whole
-  // (checksums, the run's shape: results_verify.hpp) before the output exists.
-  for (std::size_t l = 0; l < locations.size(); ++l) {
-    for (const auto& [run, s] : owners[l]) {
-      if (const auto damage = verify_run(shards[s].file, locations[l], run)) {
-        throw UsageError(shards[s].path.string() + ": run " + std::to_string(run) +
-                         (locations[l] == task ? std::string() : " of " + locations[l]) +
-                         " is damaged (" + *damage + "); compute it again with ggk run --resume " +
-                         "on that shard (the same command and -o as it was made with), then merge");
-      }
-    }
-  }
+  verify_runs_to_merge(shards, locations, owners, task);
 
   // Written under a temporary name, renamed into place when whole.
   const std::filesystem::path temporary = merging_path(output, ::getpid());
   try {
-    Hdf5File merged = [&] {
-      try {
-        return Hdf5File::create(temporary, Hdf5File::CreateMode::kFailIfExists);
-      } catch (const std::exception& e) {
-        throw UsageError(e.what());
-      }
-    }();
-    ResultsHeader header = first;
-    header.runs_selected.reset();  // the merged file is the whole job's
-    write_results_header(merged, header);
-    merged.create_group("/" + task);
-    for (std::size_t l = 0; l < locations.size(); ++l) {
-      if (locations[l] != task) {  // a configuration group's own attributes
-        const Hdf5File& source = shards.front().file;
-        const std::optional<std::string> values = study_values_of(source, locations[l]);
-        if (!values) {
-          throw std::runtime_error(source.path().string() + ": /" + locations[l] +
-                                   " has no study_values");
-        }
-        write_configuration_group(merged, locations[l], configuration_of(source, locations[l]),
-                                  *values);
-      }
-      for (const auto& [run, s] : owners[l]) {
-        merged.copy_from(shards[s].file, run_group(locations[l], run),
-                         run_group(locations[l], run));
-      }
-    }
-    write_summary(merged, task, runs);
-    merged.flush();
+    write_merged_file(temporary, shards, locations, owners);
   } catch (...) {
     std::filesystem::remove(temporary, error);
     throw;
