@@ -45,37 +45,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-void check_output_directory(const fs::path& output) {
-  const fs::path dir = output.parent_path().empty() ? fs::path(".") : output.parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) {
-    throw UsageError("output " + output.string() + ": directory " + dir.string() +
-                     " does not exist");
-  }
-  if (access(dir.c_str(), W_OK) != 0) {
-    throw UsageError("output " + output.string() + ": directory " + dir.string() +
-                     " is not writable");
-  }
-}
-
-// What is at the output path now: nothing, an empty file, or a file with bytes;
-// anything but a regular file (a directory, /dev/null, a FIFO) is a UsageError.
-enum class OutputState { kAbsent, kEmpty, kFile };
-
-OutputState output_state(const fs::path& output) {
-  struct stat status {};
-  if (::stat(output.c_str(), &status) != 0) {
-    if (errno == ENOENT) return OutputState::kAbsent;
-    throw UsageError("output " + output.string() + ": " + std::strerror(errno));
-  }
-  if (S_ISDIR(status.st_mode)) throw UsageError("output " + output.string() + " is a directory");
-  if (!S_ISREG(status.st_mode)) {
-    throw UsageError("output " + output.string() +
-                     " is not a regular file (a device, FIFO or socket): results go to a file");
-  }
-  return status.st_size == 0 ? OutputState::kEmpty : OutputState::kFile;
-}
-
 // The results file cannot be opened or created for reasons of the user's making
 // (not an HDF5 file, no permission): a UsageError, reported like a bad -o.
 template <class Open>
@@ -384,36 +353,6 @@ void add_pending_units(const Study& study, const RunOptions& options,
 
 std::string ggk_version_text() {
   return std::string(GGK_VERSION) + " (" + GGK_GIT_DESCRIBE + ")";
-}
-
-fs::path temporary_results_path(const fs::path& output) {
-  return fs::path(output.string() + ".part");
-}
-
-ResultsTarget::ResultsTarget(fs::path output, fs::path temporary, OutputLock lock)
-    : output_(std::move(output)), temporary_(std::move(temporary)), lock_(std::move(lock)) {}
-
-ResultsTarget::ResultsTarget(ResultsTarget&& other) noexcept
-    : output_(std::move(other.output_)),
-      temporary_(std::exchange(other.temporary_, {})),
-      lock_(std::move(other.lock_)) {}
-
-ResultsTarget::~ResultsTarget() {
-  if (!temporary_.empty()) ::unlink(temporary_.c_str());
-}
-
-const fs::path& ResultsTarget::writing_to() const {
-  return temporary_.empty() ? output_ : temporary_;
-}
-
-void ResultsTarget::publish(Hdf5File& file) {
-  if (temporary_.empty()) return;
-  if (::rename(temporary_.c_str(), output_.c_str()) != 0) {
-    throw std::runtime_error("cannot rename " + temporary_.string() + " to " + output_.string() +
-                             ": " + std::strerror(errno));
-  }
-  temporary_.clear();
-  file.renamed_to(output_);
 }
 
 OpenedResults open_results(const Study& study, const RunOptions& options, bool under_mpi) {

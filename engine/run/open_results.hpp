@@ -38,44 +38,12 @@
 #include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_spec.hpp"
 #include "engine/job/study.hpp"
+#include "engine/run/results_target.hpp"
 #include "engine/run/stop_signals.hpp"
-#include "engine/store/output_lock.hpp"
 
 namespace ggk::engine {
 
 struct RunOptions;
-
-// Where a job's results go, and the lock on it, for as long as the job writes.
-class ResultsTarget {
- public:
-  ResultsTarget() = default;
-  ResultsTarget(std::filesystem::path output, std::filesystem::path temporary, OutputLock lock);
-  ResultsTarget(ResultsTarget&& other) noexcept;
-  ResultsTarget& operator=(ResultsTarget&&) = delete;
-  ResultsTarget(const ResultsTarget&) = delete;
-  ResultsTarget& operator=(const ResultsTarget&) = delete;
-  // Removes a temporary file that never took the output's name; releases the lock.
-  ~ResultsTarget();
-
-  const std::filesystem::path& output() const { return output_; }
-  // The file being written: output(), or "<output>.part" until publish().
-  const std::filesystem::path& writing_to() const;
-  // "<output>.part" until publish(); empty when resuming or published.
-  const std::filesystem::path& temporary() const { return temporary_; }
-  std::filesystem::path lock_file() const { return OutputLock::path_for(output_); }
-  // For a process about to exit at once (_Exit): removes the lock file now.
-  void release_lock() { lock_.release(); }
-
-  // Gives a file written under the temporary name the output's name (rename);
-  // nothing when it has it already. Call after a run is written and flushed, on
-  // the thread that writes `file` (whose path it updates).
-  void publish(Hdf5File& file);
-
- private:
-  std::filesystem::path output_;
-  std::filesystem::path temporary_;  // empty once published, or when resuming
-  OutputLock lock_;
-};
 
 struct OpenedResults {
   ResultsTarget target;  // declared first: outlives the file
@@ -98,8 +66,5 @@ OpenedResults open_results(const Study& study, const RunOptions& options, bool u
 // The version of this ggk and the `git describe` of its source when it was
 // configured: what every results file records (ggk_version, git).
 std::string ggk_version_text();  // "0.1.0 (v0.1-12-gabcdef)"
-
-// "<output>.part": where a new results file is written until its first run lands.
-std::filesystem::path temporary_results_path(const std::filesystem::path& output);
 
 }  // namespace ggk::engine
