@@ -25,6 +25,7 @@
 #include "engine/run/resume_command.hpp"
 #include "engine/run/resume_compatibility.hpp"
 #include "engine/run/salvage_results.hpp"
+#include "engine/store/configuration_groups.hpp"
 #include "engine/store/one_line.hpp"
 #include "engine/store/results_layout.hpp"
 #include "engine/store/results_verify.hpp"
@@ -100,46 +101,6 @@ Hdf5File open_for_resume(const fs::path& output, std::vector<std::string>& notes
     if (!extend_truncated(output, e.what(), notes)) throw UsageError(e.what());
   }
   return open_as_user([&] { return Hdf5File::reopen_for_writer(output); });
-}
-
-void write_configuration_group(Hdf5File& file, const RunConfiguration& configuration) {
-  write_configuration_group(file, runs_location(configuration.job), configuration.index,
-                            study_values_text(configuration.assignments));
-}
-
-// Gives every configuration group of the file the name and index of the
-// study's configuration with its values (attribute study_values, which names
-// a group's configuration whatever its name): a grown study renumbers them
-// (its product order changes). In two steps, each group first out of the way
-// as "moving_config_NNN" (its new name), so that no move meets a name in use;
-// a kill in between leaves groups that the next resume finds by their values
-// the same way. Creates the groups of configurations the file lacks.
-void align_configurations(Hdf5File& file, const Study& study, const fs::path& output) {
-  if (study.configurations.front().job.configuration_group.empty()) return;
-  const std::string task_group = "/" + study.job().task;
-  std::vector<ConfigurationGroup> found = configuration_groups(file, study, output);
-  std::vector<bool> has_group(study.configurations.size(), false);
-  for (const ConfigurationGroup& group : found) has_group[group.configuration] = true;
-  constexpr std::string_view kMoving = kMovingPrefix;
-  for (auto& [name, c] : found) {  // out of the way
-    const std::string& target = study.configurations[c].job.configuration_group;
-    if (name == target || name == std::string(kMoving) + target) continue;
-    file.move(task_group + "/" + name, task_group + "/" + std::string(kMoving) + target);
-    name = std::string(kMoving) + target;
-  }
-  for (auto& [name, c] : found) {  // into place
-    const RunConfiguration& configuration = study.configurations[c];
-    if (name != configuration.job.configuration_group) {
-      file.move(task_group + "/" + name, "/" + runs_location(configuration.job));
-    }
-    if (!records_configuration(file, runs_location(configuration.job), configuration.index)) {
-      write_configuration_group(file, configuration);
-    }
-  }
-  for (std::size_t c = 0; c < study.configurations.size(); ++c) {
-    if (!has_group[c]) write_configuration_group(file, study.configurations[c]);
-  }
-  file.flush();
 }
 
 ResultsHeader new_header(const Study& study, const RunOptions& options);

@@ -11,6 +11,7 @@
 #include "engine/job/resolved_config.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/store/configuration_groups.hpp"
 #include "engine/store/one_line.hpp"
 #include "engine/store/results_layout.hpp"
 #include "engine/store/results_rules.hpp"
@@ -21,20 +22,6 @@ namespace ggk::engine {
 namespace fs = std::filesystem;
 
 namespace {
-
-// A configuration's study_values ("key = value" lines) on one line of a message:
-// "maze.slip = 0.1, maze.series = 40" (cut when a damaged file holds a long text).
-std::string values_on_one_line(const std::string& values) {
-  std::string text;
-  std::string::size_type from = 0;
-  while (from < values.size()) {
-    std::string::size_type end = values.find('\n', from);
-    if (end == std::string::npos) end = values.size();
-    if (end > from) text += (text.empty() ? "" : ", ") + values.substr(from, end - from);
-    from = end + 1;
-  }
-  return one_line(text);
-}
 
 // The keys whose values a resumed job may add to: runs aside, the run-level
 // study axes' (more run configurations) and the fit-level ones', built-in
@@ -180,44 +167,6 @@ bool check_same_job(const Hdf5File& file, const Study& study, const fs::path& ou
     }
   }
   return grown;
-}
-
-std::vector<ConfigurationGroup> configuration_groups(const Hdf5File& file, const Study& study,
-                                                     const fs::path& output) {
-  std::vector<ConfigurationGroup> found;
-  if (study.configurations.front().job.configuration_group.empty()) return found;
-  const std::string task_group = "/" + study.job().task;
-  std::map<std::string, std::size_t> by_values;
-  for (std::size_t c = 0; c < study.configurations.size(); ++c) {
-    by_values.emplace(study_values_text(study.configurations[c].assignments), c);
-  }
-  std::vector<bool> has_group(study.configurations.size(), false);
-  for (const std::string& name : file.member_names(task_group)) {
-    const bool moving =
-        name.starts_with(kMovingPrefix) &&
-        is_configuration_group_name(std::string_view(name).substr(kMovingPrefix.size()));
-    if (!moving && !is_configuration_group_name(name)) continue;
-    const std::string group = task_group + "/" + name;
-    const std::string values = study_values_of(file, group.substr(1)).value_or(std::string());
-    const auto configuration = by_values.find(values);
-    if (configuration == by_values.end()) {
-      throw UsageError("cannot resume " + output.string() + ": its group " + group +
-                       " holds the run configuration " +
-                       (values.empty() ? std::string("(no study_values)")
-                                       : "{" + values_on_one_line(values) + "}") +
-                       ", which this job does not have; resume with the job that has it, or "
-                       "write to another -o");
-    }
-    if (has_group[configuration->second]) {
-      throw UsageError("cannot resume " + output.string() +
-                       ": two of its groups hold the run "
-                       "configuration {" +
-                       values + "} (damaged); write to another -o");
-    }
-    has_group[configuration->second] = true;
-    found.push_back({name, configuration->second});
-  }
-  return found;
 }
 
 }  // namespace ggk::engine

@@ -26,22 +26,4 @@ namespace ggk::engine {
 // (true); otherwise a UsageError says what differs.
 bool check_same_job(const Hdf5File& file, const Study& study, const std::filesystem::path& output);
 
-// A configuration group of the file, by name under /<task>, and the index of the
-// study's configuration with its values.
-struct ConfigurationGroup {
-  std::string name;
-  std::size_t configuration = 0;
-};
-
-// A group on its way to a new name (open_results.cpp renumbers in two steps):
-// "moving_config_007".
-inline constexpr std::string_view kMovingPrefix = "moving_";
-
-// The file's configuration groups (also those caught on their way to a new name),
-// matched to the study's configurations by their values; a UsageError for a
-// group of a configuration the study lacks or two groups of one. Empty for a
-// plain job's file.
-std::vector<ConfigurationGroup> configuration_groups(const Hdf5File& file, const Study& study,
-                                                     const std::filesystem::path& output);
-
 }  // namespace ggk::engine

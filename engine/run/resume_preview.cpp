@@ -9,6 +9,7 @@
 
 #include "engine/job/usage_error.hpp"
 #include "engine/run/resume_compatibility.hpp"
+#include "engine/store/configuration_groups.hpp"
 #include "engine/store/results_contents.hpp"
 #include "engine/store/run_extension.hpp"
 #include "engine/store/run_store.hpp"
