@@ -20,12 +20,11 @@
 namespace ggk::engine {
 namespace {
 
-using RunKey = std::pair<std::int32_t, std::int32_t>;  // (configuration, run)
-
 // The study's state from the file's complete runs, leaving out those still to
 // compute (`outstanding`: missing, or lacking fits of a grown study).
-AdaptiveState state_of_file(const Hdf5File& file, const Study& study,
-                            const std::map<RunKey, WorkUnit>& outstanding) {
+AdaptiveState state_of_file(
+    const Hdf5File& file, const Study& study,
+    const std::map<std::pair<std::int32_t, std::int32_t>, WorkUnit>& outstanding) {
   ResultsContents contents = read_contents(file);
   std::erase_if(contents.fits, [&](const FitRow& fit) {
     return outstanding.count({fit.configuration, static_cast<std::int32_t>(fit.run)}) > 0;
@@ -112,12 +111,50 @@ std::vector<std::string> adaptive_summary_lines(const AdaptiveState& state, cons
   return lines;
 }
 
-RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
-  if (options.runs) {
+AdaptiveLooks::AdaptiveLooks(const Study& study, const std::vector<WorkUnit>& pending)
+    : study_(study) {
+  for (const WorkUnit& unit : pending) outstanding_[{unit.configuration, unit.run}] = unit;
+}
+
+std::vector<WorkUnit> AdaptiveLooks::next_look(JobWriter& writer) {
+  state_ = writer.read([&](Hdf5File& file) { return state_of_file(file, study_, outstanding_); });
+  std::vector<WorkUnit> look;
+  for (std::size_t c = 0; c < study_.configurations.size(); ++c) {
+    for (std::int32_t run = 0; run < state_.runs_wanted[c]; ++run) {
+      const auto at = outstanding_.find({static_cast<std::int32_t>(c), run});
+      if (at != outstanding_.end()) look.push_back(at->second);
+    }
+  }
+  writer.set_stage(stage_text(state_));
+  if (look.empty()) {
+    if (state_.done) return look;
+    throw std::logic_error("adaptive study: look " + std::to_string(state_.looks) +
+                           " lacks runs but none is outstanding");
+  }
+  writer.add_runs_to_write(static_cast<std::int32_t>(look.size()));
+  writer.expect_units(look);
+  for (const WorkUnit& unit : look) outstanding_.erase({unit.configuration, unit.run});
+  computed_ += static_cast<std::int32_t>(look.size());
+  return look;
+}
+
+std::int64_t AdaptiveLooks::runs_used() const {
+  std::int64_t used = 0;
+  for (const std::int32_t wanted : state_.runs_wanted) used += wanted;
+  return used;
+}
+
+void refuse_adaptive_shards(const Study& study, const RunOptions& options) {
+  if (study.job().adaptive && options.runs) {
     throw UsageError(
         "an adaptive study chooses its runs by its rule ([adaptive]) from all of them: run it "
-        "whole, without --runs or --shard (shards of an adaptive study are not supported yet)");
+        "whole, without --runs or --shard (a shard cannot see the other shards' runs its rule "
+        "decides on; under mpirun the ranks share one file)");
   }
+}
+
+RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
+  refuse_adaptive_shards(study, options);
   const auto started = std::chrono::steady_clock::now();
   const ComputeThreads threads(options.threads);
   check_adaptive_metrics(study);
@@ -127,36 +164,16 @@ RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
   if (!options.quiet) print_notes(opened.info);
   RunSummary summary;
   summary.output = opened.target.output();
-  std::map<RunKey, WorkUnit> outstanding;
-  for (WorkUnit& unit : opened.pending)
-    outstanding[{unit.configuration, unit.run}] = std::move(unit);
+  AdaptiveLooks looks(study, opened.pending);
 
   RunTally tally;
-  std::int32_t computed = 0;
   JobWriter writer(study, options, std::move(opened), 0, StopSignals::Mode::kStopInHandler);
-  AdaptiveState state;
   try {
     for (;;) {
-      state = writer.read([&](Hdf5File& file) { return state_of_file(file, study, outstanding); });
-      std::vector<WorkUnit> look;
-      for (std::size_t c = 0; c < study.configurations.size(); ++c) {
-        for (std::int32_t run = 0; run < state.runs_wanted[c]; ++run) {
-          const auto at = outstanding.find({static_cast<std::int32_t>(c), run});
-          if (at != outstanding.end()) look.push_back(at->second);
-        }
-      }
-      writer.set_stage(stage_text(state));
-      if (look.empty()) {
-        if (state.done) break;
-        throw std::logic_error("adaptive study: look " + std::to_string(state.looks) +
-                               " lacks runs but none is outstanding");
-      }
-      writer.add_runs_to_write(static_cast<std::int32_t>(look.size()));
-      writer.expect_units(look);
+      const std::vector<WorkUnit> look = looks.next_look(writer);
+      if (look.empty()) break;
       compute_units(study, look, writer, tally);
       writer.wait();
-      for (const WorkUnit& unit : look) outstanding.erase({unit.configuration, unit.run});
-      computed += static_cast<std::int32_t>(look.size());
     }
     writer.finish();
   } catch (const UsageError&) {
@@ -164,14 +181,12 @@ RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
   } catch (const std::runtime_error& e) {
     throw stopped_job(writer, e);
   }
-  std::int64_t used = 0;
-  for (const std::int32_t wanted : state.runs_wanted) used += wanted;
-  summary.runs_computed = computed;
-  summary.runs_skipped = static_cast<std::int32_t>(used - computed);
+  summary.runs_computed = looks.computed();
+  summary.runs_skipped = static_cast<std::int32_t>(looks.runs_used() - looks.computed());
   summary.fits = tally.fits.load();
   summary.failed_fits = tally.failed_fits.load();
   summary.warnings = tally.warnings.lines();
-  summary.adaptive = adaptive_summary_lines(state, study);
+  summary.adaptive = adaptive_summary_lines(looks.state(), study);
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return summary;

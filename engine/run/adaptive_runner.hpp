@@ -1,17 +1,24 @@
 #pragma once
 // Runs an adaptive study (job/adaptive_rule.hpp): look after look, the runs the
 // rule asks for (store/adaptive_state.hpp decides from the file's complete runs),
-// computed as oneTBB tasks and committed by the one JobWriter, until no cell asks
-// for more. Each look is a growth by runs of the same file, so a study stopped at
-// any point and resumed (--resume) ends equal to one never stopped.
+// computed as oneTBB tasks (or, under mpirun, over the ranks: mpi_runner.hpp)
+// and committed by the one JobWriter, until no cell asks for more. Each look is a
+// growth by runs of the same file and its decisions a function of the file's
+// runs alone, so a study stopped at any point and resumed (--resume), or run
+// over any number of ranks, ends equal to one run whole in one process.
 //
-// Not yet: MPI and shards (--runs, --shard), which the runner refuses (exit 2).
+// Not shards (--runs, --shard): a shard cannot see the other shards' runs its
+// rule decides on; refused (exit 2).
 
+#include <cstdint>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/job/study.hpp"
 #include "engine/run/job_runner.hpp"
+#include "engine/run/job_writer.hpp"
 #include "engine/store/adaptive_state.hpp"
 
 namespace ggk::engine {
@@ -24,6 +31,38 @@ void check_adaptive_metrics(const Study& study);
 // run configuration while a cell of basis=ggk,ogk on success_rate is undecided
 // (its sign; bernstein confidence sequence, level 0.95 over all cells)".
 std::string adaptive_rule_words(const AdaptiveRule& rule, std::int32_t runs);
+
+// The looks of an adaptive study, over the units open_results left to compute
+// (`pending`: missing runs, or complete runs lacking fits of a grown study).
+// Used by one thread (the one that commits or coordinates).
+class AdaptiveLooks {
+ public:
+  AdaptiveLooks(const Study& study, const std::vector<WorkUnit>& pending);
+
+  // The units of the next look: the outstanding ones among the runs the rule now
+  // asks for, decided from the file's complete runs (read through `writer`,
+  // after every committed run is written: call writer.wait() first). Counted
+  // in the writer's progress (its stage names the look and the open cells).
+  // Empty when the study is done; a look that lacks runs none of which is
+  // outstanding is a std::logic_error.
+  std::vector<WorkUnit> next_look(JobWriter& writer);
+
+  const AdaptiveState& state() const { return state_; }
+  // The units handed out by next_look so far.
+  std::int32_t computed() const { return computed_; }
+  // The runs the rule uses: every configuration's runs_wanted, summed.
+  std::int64_t runs_used() const;
+
+ private:
+  using RunKey = std::pair<std::int32_t, std::int32_t>;  // (configuration, run)
+  const Study& study_;
+  std::map<RunKey, WorkUnit> outstanding_;
+  AdaptiveState state_;
+  std::int32_t computed_ = 0;
+};
+
+// An adaptive study runs whole: a UsageError for --runs or --shard.
+void refuse_adaptive_shards(const Study& study, const RunOptions& options);
 
 // run_study for a study whose job has an [adaptive] table.
 RunSummary run_adaptive_study(const Study& study, const RunOptions& options);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
@@ -20,11 +21,13 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "engine/job/job_error.hpp"
 #include "engine/job/sweep.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/run/adaptive_runner.hpp"
 #include "engine/run/job_writer.hpp"
 #include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
@@ -266,13 +269,19 @@ int work(const Study& study) {
 // --------------------------------------------------------------- rank 0
 class Coordinator {
  public:
+  // An adaptive study's units are handed out look by look (AdaptiveLooks): the
+  // queue starts empty and is refilled when every run of a look is written.
   Coordinator(const Study& study, const MpiRunOptions& options, int size, OpenedResults opened)
       : study_(study),
         options_(options),
         size_(size),
         skipped_(opened.skipped),
-        pending_(opened.pending.begin(), opened.pending.end()),
-        total_(static_cast<std::int32_t>(opened.pending.size())),
+        looks_(study.job().adaptive
+                   ? std::optional<AdaptiveLooks>(std::in_place, study, opened.pending)
+                   : std::nullopt),
+        pending_(looks_ ? std::deque<WorkUnit>()
+                        : std::deque<WorkUnit>(opened.pending.begin(), opened.pending.end())),
+        total_(static_cast<std::int32_t>(pending_.size())),
         writer_(study, options.run, std::move(opened), total_, StopSignals::Mode::kRecord) {}
 
   // Returns the exit status; fills summary on success.
@@ -289,9 +298,12 @@ class Coordinator {
     return run;
   }
   void fail(std::string message) {
-    std::lock_guard lock(mutex_);
-    if (failure_.empty()) failure_ = std::move(message);
-    pending_.clear();
+    {
+      std::lock_guard lock(mutex_);
+      if (failure_.empty()) failure_ = std::move(message);
+      pending_.clear();
+    }
+    more_runs_.notify_all();
   }
   bool failed() {
     std::lock_guard lock(mutex_);
@@ -302,18 +314,34 @@ class Coordinator {
     if (stop_signal_ != 0) return;
     stop_signal_ = signal;
     stop_deadline_ = Clock::now() + kStopReportWait;
-    std::lock_guard lock(mutex_);
-    stopping_ = true;
+    {
+      std::lock_guard lock(mutex_);
+      stopping_ = true;
+    }
+    more_runs_.notify_all();
   }
-  // Nothing would be lost by going on: every run is written or queued.
+  // Nothing would be lost by going on: every run is written or queued (and an
+  // adaptive study's rule asks for no more).
   bool all_runs_done() {
     std::lock_guard lock(mutex_);
-    return pending_.empty() && local_finished_ &&
+    return pending_.empty() && local_finished_ && (!looks_ || looks_done_) &&
            std::none_of(held_.begin(), held_.end(),
                         [](const auto& h) { return h.second.run >= 0; });
   }
+  // An adaptive study may yet hand out runs: its rule is not done, and nothing
+  // failed or stopped.
+  bool more_looks_may_come() {
+    std::lock_guard lock(mutex_);
+    return looks_ && !looks_done_ && failure_.empty() && !stopping_;
+  }
   void compute_locally();
   void assign_or_stop(int rank);
+  // An adaptive study between looks: when no run is queued, computed or held,
+  // every run of the look is written, and the next look's units are queued and
+  // handed to the waiting ranks (or, the rule done, the waiting ranks stopped).
+  void advance_look_when_idle();
+  // Tells the ranks waiting for a look's runs to stop.
+  void release_waiting_workers();
   void receive(const MPI_Status& status);
   void stop_for_signal();
   // The active workers of this host whose process is gone (dead or a zombie).
@@ -329,14 +357,18 @@ class Coordinator {
   const int size_;
   const std::int32_t skipped_;
 
-  std::mutex mutex_;  // pending_, failure_, stopping_
+  std::optional<AdaptiveLooks> looks_;  // an adaptive study's looks (main thread only)
+  std::mutex mutex_;                    // pending_, failure_, stopping_, looks_done_
+  std::condition_variable more_runs_;   // pending_ refilled, or no run will come
   std::deque<WorkUnit> pending_;
   std::string failure_;
   bool stopping_ = false;
+  bool looks_done_ = false;  // an adaptive study's rule asks for no more runs
+  std::set<int> waiting_;    // ranks waiting for the next look's runs
   std::atomic<bool> local_finished_{false};
   std::atomic<std::int64_t> local_run_{-1};  // the unit rank 0 computes (encode), -1: none
 
-  const std::int32_t total_;
+  std::int32_t total_;  // the runs of this session handed out so far (all, unless adaptive)
   std::atomic<std::int64_t> failed_fits_{0};
   JobWriter writer_;
 
@@ -368,8 +400,22 @@ class Coordinator {
 };
 
 void Coordinator::compute_locally() {
-  while (const std::optional<WorkUnit> run = take_run()) {
-    local_run_ = encode(*run);
+  for (;;) {
+    std::optional<WorkUnit> run;
+    {
+      // Taken with local_run_ set under the lock: advance_look_when_idle never
+      // sees a run in neither the queue nor local_run_.
+      std::unique_lock lock(mutex_);
+      if (looks_) {
+        more_runs_.wait(lock, [this] {
+          return !pending_.empty() || looks_done_ || stopping_ || !failure_.empty();
+        });
+      }
+      if (pending_.empty() || !failure_.empty() || stopping_) break;
+      run = pending_.front();
+      pending_.pop_front();
+      local_run_ = encode(*run);
+    }
     try {
       auto record = std::make_shared<const RunRecord>(compute_unit(study_, *run));
       failed_fits_.fetch_add(failed_fits_of(*record));
@@ -391,8 +437,43 @@ void Coordinator::assign_or_stop(int rank) {
       MPI_Send(run->points.data(), static_cast<int>(run->points.size()), MPI_INT32_T, rank,
                kAssignPoints, MPI_COMM_WORLD);
     }
+  } else if (more_looks_may_come()) {
+    waiting_.insert(rank);  // answered by the next look (advance_look_when_idle)
   } else {
     const std::int64_t none = -1;
+    held_.erase(rank);
+    active_.erase(rank);
+    MPI_Send(&none, 1, MPI_INT64_T, rank, kStop, MPI_COMM_WORLD);
+  }
+}
+
+void Coordinator::advance_look_when_idle() {
+  if (!more_looks_may_come()) {
+    release_waiting_workers();
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    if (!pending_.empty() || local_run_ >= 0) return;
+  }
+  if (std::any_of(held_.begin(), held_.end(), [](const auto& h) { return h.second.run >= 0; })) {
+    return;
+  }
+  writer_.wait();  // the look's runs are in the file the rule decides on
+  const std::vector<WorkUnit> look = looks_->next_look(writer_);
+  total_ += static_cast<std::int32_t>(look.size());
+  {
+    std::lock_guard lock(mutex_);
+    if (look.empty()) looks_done_ = true;
+    pending_.insert(pending_.end(), look.begin(), look.end());
+  }
+  more_runs_.notify_all();
+  for (const int rank : std::exchange(waiting_, {})) assign_or_stop(rank);
+}
+
+void Coordinator::release_waiting_workers() {
+  const std::int64_t none = -1;
+  for (const int rank : std::exchange(waiting_, {})) {
     held_.erase(rank);
     active_.erase(rank);
     MPI_Send(&none, 1, MPI_INT64_T, rank, kStop, MPI_COMM_WORLD);
@@ -589,6 +670,7 @@ int Coordinator::run(RunSummary& summary) {
   while (!active_.empty() || !local_finished_) {
     if (const int signal = writer_.stop_signals().received()) start_stopping(signal);
     if (stop_signal_ != 0) {
+      release_waiting_workers();  // idle between looks: nothing of theirs is in flight
       if (stop_reported_ || !all_runs_done()) {
         stop_for_signal();
       } else if (Clock::now() >= stop_deadline_) {
@@ -602,6 +684,7 @@ int Coordinator::run(RunSummary& summary) {
       receive(status);
       continue;
     }
+    if (looks_) advance_look_when_idle();
     const auto now = Clock::now();
     for (const auto& [rank, held] : held_) {
       const double silent = std::chrono::duration<double>(now - held.last_heard).count();
@@ -634,9 +717,11 @@ int Coordinator::run(RunSummary& summary) {
 
   summary.output = writer_.target().output();
   summary.runs_computed = total_;
-  summary.runs_skipped = skipped_;
+  summary.runs_skipped =
+      looks_ ? static_cast<std::int32_t>(looks_->runs_used() - total_) : skipped_;
   summary.fits = static_cast<std::int64_t>(total_) * fits_per_run;
   summary.failed_fits = failed_fits_.load();
+  if (looks_) summary.adaptive = adaptive_summary_lines(looks_->state(), study_);
   summary.seconds = std::chrono::duration<double>(Clock::now() - started).count();
   return 0;
 }
@@ -672,12 +757,7 @@ int run_job_over_mpi(const MpiSession& session, const std::filesystem::path& job
   if (rank != 0) load.check_output = false;
   if (const int status = agree(attempt([&] {
                                  study.emplace(load_study(job_path, task_tables(), load));
-                                 if (study->job().adaptive) {
-                                   throw UsageError(
-                                       "an adaptive study ([adaptive]) runs in one process for "
-                                       "now: run it without mpirun (its looks under MPI are not "
-                                       "supported yet)");
-                                 }
+                                 refuse_adaptive_shards(*study, options.run);
                                  threads.emplace(options.run.threads);
                                }),
                                rank, size)) {
@@ -689,6 +769,7 @@ int run_job_over_mpi(const MpiSession& session, const std::filesystem::path& job
   std::optional<OpenedResults> opened;
   if (rank == 0) {
     const Outcome outcome = attempt([&] {
+      check_adaptive_metrics(*study);
       check_study_memory(*study, options.run);  // before the output is created or touched
       opened.emplace(open_results(*study, options.run, /*under_mpi=*/true));
       print_notes(opened->notes);  // as run_study does: a salvaged file, a grown one

@@ -11,6 +11,9 @@
 #   interrupt  SIGINT / SIGTERM to mpirun, SIGTERM to every rank: reported as an
 #          interruption (no rank blamed), no lock left, the printed command
 #          finishes the job identically
+#   adaptive   an adaptive study (jobs/ci-adaptive.toml) over 1 and 3 ranks equals
+#          it in one process (its looks handed out rank by rank); SIGINT to mpirun
+#          mid-study, then the printed command, equals it too; --runs is refused
 # Environment: GGK (the binary), GGK_SOURCE_DIR, MPIEXEC (launcher with its flags,
 # e.g. "mpiexec --oversubscribe --allow-run-as-root"), MPIEXEC_NUMPROC_FLAG.
 set -euo pipefail
@@ -188,6 +191,41 @@ interrupt)
       { cat "$scratch/resume-err" "$scratch/log"; fail "$how: the printed command failed: $command"; }
     "$GGK" diff "$scratch/single.h5" "$out" >/dev/null || fail "$how: resumed results differ"
   done
+  ;;
+adaptive)
+  mkdir "$scratch/jobs" && cp -r "$jobs_dir/maps" "$scratch/jobs/"
+  job=$scratch/jobs/ci-adaptive.toml
+  cp "$jobs_dir/ci-adaptive.toml" "$job"
+  sets=(--set maze.series=30)  # ~3 s of runs: the interrupt lands mid-study
+  reference "$job" "$scratch/single.h5" "${sets[@]}"
+  for n in 1 3; do
+    # shellcheck disable=SC2046
+    "${launcher[@]}" $(np $n) "$GGK" run "$job" -j 1 "${sets[@]}" -o "$scratch/np$n.h5" \
+      2>"$scratch/log" || { cat "$scratch/log"; fail "mpiexec -n $n failed"; }
+    grep -q "adaptive: done after" "$scratch/log" || { cat "$scratch/log"; fail "-n $n: no adaptive summary"; }
+    "$GGK" diff "$scratch/single.h5" "$scratch/np$n.h5" >/dev/null || fail "-n $n differs from one process"
+  done
+  out=$scratch/cut.h5
+  set -m  # mpirun in a process group of its own, as a shell's job
+  # shellcheck disable=SC2046
+  "${launcher[@]}" $(np 3) "$GGK" run "$job" -j 1 -q "${sets[@]}" -o "$out" >"$scratch/log" 2>&1 &
+  launcher_pid=$!
+  set +m
+  wait_until 240 test -e "$out" || fail "no run written in 240 s"
+  kill -s INT "$launcher_pid"
+  status=0; wait "$launcher_pid" || status=$?
+  [ $status != 0 ] || { cat "$scratch/log"; fail "the study ended before the interrupt (make it longer)"; }
+  ! grep -q "died\|killed" "$scratch/log" || { cat "$scratch/log"; fail "the interrupt blamed a rank"; }
+  command=$(printed_command "$scratch/log")
+  wait_until 120 no_rank_left || fail "ranks still running 120 s after the stop"
+  bash -c "$command" 2>"$scratch/resume-err" ||
+    { cat "$scratch/resume-err" "$scratch/log"; fail "the printed command failed: $command"; }
+  "$GGK" diff "$scratch/single.h5" "$out" >/dev/null || fail "the interrupted and resumed study differs"
+  # shellcheck disable=SC2046
+  status=0; "${launcher[@]}" $(np 2) "$GGK" run "$job" -q --runs 0:5 -o "$scratch/part.h5" \
+    2>"$scratch/err" || status=$?
+  [ $status = 2 ] || fail "--runs under mpirun: status $status: $(cat "$scratch/err")"
+  grep -q "without --runs or --shard" "$scratch/err" || fail "--runs: $(cat "$scratch/err")"
   ;;
 *)
   fail "unknown case $case_name"
