@@ -335,6 +335,9 @@ class Coordinator {
     return looks_ && !looks_done_ && failure_.empty() && !stopping_;
   }
   void compute_locally();
+  // The message loop of rank 0 until every worker and its own compute thread are
+  // done: assigns runs, receives results, watches for stops and silent ranks.
+  void coordinate();
   void assign_or_stop(int rank);
   // An adaptive study between looks: when no run is queued, computed or held,
   // every run of the look is written, and the next look's units are queued and
@@ -660,13 +663,7 @@ void Coordinator::stop_for_signal() {
   std::_Exit(dead.empty() ? 128 + stop_signal_ : 1);
 }
 
-int Coordinator::run(RunSummary& summary) {
-  const auto started = Clock::now();
-  const auto fits_per_run =
-      static_cast<std::int32_t>(expand_points(study_.configurations.front()).size());
-  for (int rank = 1; rank < size_; ++rank) active_.insert(rank);
-
-  std::thread local([this] { compute_locally(); });
+void Coordinator::coordinate() {
   while (!active_.empty() || !local_finished_) {
     if (const int signal = writer_.stop_signals().received()) start_stopping(signal);
     if (stop_signal_ != 0) {
@@ -704,6 +701,24 @@ int Coordinator::run(RunSummary& summary) {
       MPI_Abort(MPI_COMM_WORLD, 1);
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+}
+
+int Coordinator::run(RunSummary& summary) {
+  const auto started = Clock::now();
+  const auto fits_per_run =
+      static_cast<std::int32_t>(expand_points(study_.configurations.front()).size());
+  for (int rank = 1; rank < size_; ++rank) active_.insert(rank);
+
+  std::thread local([this] { compute_locally(); });
+  try {
+    coordinate();
+  } catch (...) {
+    // An error here (a look's rule refused, a malformed message): rank 0's own
+    // compute thread is told to stop and joined before the error goes on.
+    fail("rank 0 stopped coordinating");
+    local.join();
+    throw;
   }
   local.join();
   writer_.wait();  // rethrows a write failure

@@ -13,7 +13,8 @@
 #          finishes the job identically
 #   adaptive   an adaptive study (jobs/ci-adaptive.toml) over 1 and 3 ranks equals
 #          it in one process (its looks handed out rank by rank); SIGINT to mpirun
-#          mid-study, then the printed command, equals it too; --runs is refused
+#          mid-study, then the printed command, equals it too; --runs is refused,
+#          and a metric the task lacks at the first look (exit 2, no lock left)
 # Environment: GGK (the binary), GGK_SOURCE_DIR, MPIEXEC (launcher with its flags,
 # e.g. "mpiexec --oversubscribe --allow-run-as-root"), MPIEXEC_NUMPROC_FLAG.
 set -euo pipefail
@@ -226,6 +227,16 @@ adaptive)
     2>"$scratch/err" || status=$?
   [ $status = 2 ] || fail "--runs under mpirun: status $status: $(cat "$scratch/err")"
   grep -q "without --runs or --shard" "$scratch/err" || fail "--runs: $(cat "$scratch/err")"
+  # A metric the task lacks is refused at the first look, as in one process:
+  # exit 2 naming it, the runs of that look kept, no lock left.
+  sed 's/^metrics = .*/metrics = ["nope"]/; s/^correction = .*/&\n[adaptive.range]\nnope = [0, 1]/' \
+    "$job" >"$scratch/jobs/nope.toml"
+  # shellcheck disable=SC2046
+  status=0; "${launcher[@]}" $(np 3) "$GGK" run "$scratch/jobs/nope.toml" -q -j 1 \
+    -o "$scratch/nope.h5" >"$scratch/err" 2>&1 || status=$?
+  [ $status = 2 ] || { cat "$scratch/err"; fail "a metric the task lacks: status $status"; }
+  grep -q "the task reports no metric 'nope'" "$scratch/err" || fail "nope: $(cat "$scratch/err")"
+  [ ! -e "$scratch/nope.h5.lock" ] || fail "nope: lock file left behind"
   ;;
 *)
   fail "unknown case $case_name"
