@@ -290,12 +290,16 @@ class Coordinator {
   void release_stopped_workers();
 
  private:
-  std::optional<WorkUnit> take_run() {
-    std::lock_guard lock(mutex_);
+  // The next queued unit, none once the job failed or stops; mutex_ held.
+  std::optional<WorkUnit> pop_run_locked() {
     if (pending_.empty() || !failure_.empty() || stopping_) return std::nullopt;
     const WorkUnit run = pending_.front();
     pending_.pop_front();
     return run;
+  }
+  std::optional<WorkUnit> take_run() {
+    std::lock_guard lock(mutex_);
+    return pop_run_locked();
   }
   void fail(std::string message) {
     {
@@ -339,6 +343,8 @@ class Coordinator {
   // done: assigns runs, receives results, watches for stops and silent ranks.
   void coordinate();
   void assign_or_stop(int rank);
+  // Tells a worker to exit (kStop): it gets no more runs.
+  void stop_worker(int rank);
   // An adaptive study between looks: when no run is queued, computed or held,
   // every run of the look is written, and the next look's units are queued and
   // handed to the waiting ranks (or, the rule done, the waiting ranks stopped).
@@ -414,9 +420,8 @@ void Coordinator::compute_locally() {
           return !pending_.empty() || looks_done_ || stopping_ || !failure_.empty();
         });
       }
-      if (pending_.empty() || !failure_.empty() || stopping_) break;
-      run = pending_.front();
-      pending_.pop_front();
+      run = pop_run_locked();
+      if (!run) break;
       local_run_ = encode(*run);
     }
     try {
@@ -443,11 +448,15 @@ void Coordinator::assign_or_stop(int rank) {
   } else if (more_looks_may_come()) {
     waiting_.insert(rank);  // answered by the next look (advance_look_when_idle)
   } else {
-    const std::int64_t none = -1;
-    held_.erase(rank);
-    active_.erase(rank);
-    MPI_Send(&none, 1, MPI_INT64_T, rank, kStop, MPI_COMM_WORLD);
+    stop_worker(rank);
   }
+}
+
+void Coordinator::stop_worker(int rank) {
+  const std::int64_t none = -1;
+  held_.erase(rank);
+  active_.erase(rank);
+  MPI_Send(&none, 1, MPI_INT64_T, rank, kStop, MPI_COMM_WORLD);
 }
 
 void Coordinator::advance_look_when_idle() {
@@ -475,12 +484,7 @@ void Coordinator::advance_look_when_idle() {
 }
 
 void Coordinator::release_waiting_workers() {
-  const std::int64_t none = -1;
-  for (const int rank : std::exchange(waiting_, {})) {
-    held_.erase(rank);
-    active_.erase(rank);
-    MPI_Send(&none, 1, MPI_INT64_T, rank, kStop, MPI_COMM_WORLD);
-  }
+  for (const int rank : std::exchange(waiting_, {})) stop_worker(rank);
 }
 
 void Coordinator::receive(const MPI_Status& status) {
