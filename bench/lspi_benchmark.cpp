@@ -24,6 +24,7 @@
 #include "kernels/gaussian_kernels.hpp"
 #include "kernels/lspi.hpp"
 #include "kernels/random_stream.hpp"
+#include "kernels/shared_row_basis.hpp"
 #include "kernels/shortest_paths.hpp"
 #include "kernels/state_action_basis.hpp"
 
@@ -236,10 +237,14 @@ BENCHMARK(BM_ShiftBasis)
     ->UseRealTime();
 
 // The greedy step over that shift table (p = 128, k = 512, the arm's largest),
-// method:{sparse_product,action_block}: greedy_policy (features * w, then the
-// argmax) against action_block_greedy (kernels/action_block_greedy.hpp: the same
-// policy bit for bit, the actions of a dense state summed side by side).
-void BM_ActionBlockGreedy(benchmark::State& state, bool action_block) {
+// method:{sparse_product,action_block,shared_rows}: greedy_policy (features * w,
+// then the argmax) against action_block_greedy (kernels/action_block_greedy.hpp:
+// the same policy bit for bit, the actions of a dense state summed side by side)
+// and shared_row_greedy (kernels/shared_row_basis.hpp: the kernels' 1,600 rows read
+// once for every action, Q looked up through the successors; the same policy).
+enum class GreedyMethod { sparse_product, action_block, shared_rows };
+
+void BM_ActionBlockGreedy(benchmark::State& state, GreedyMethod method) {
   constexpr std::int32_t kP = 128;
   const GridProblem problem = make_problem(kP);
   const kernels::RowMatrixXd distances =
@@ -247,17 +252,58 @@ void BM_ActionBlockGreedy(benchmark::State& state, bool action_block) {
   const kernels::EmpiricalTransitionModel model(
       problem.graph.num_nodes, kActions, problem.samples.states, problem.samples.actions,
       problem.samples.next_states, problem.samples.weights);
-  const kernels::SparseRowMatrix features = kernels::shift_basis(
-      kernels::geodesic_gaussian_kernels(distances, kSigma, 0.0), kActions, model);
+  const kernels::SparseRowMatrix state_kernels =
+      kernels::geodesic_gaussian_kernels(distances, kSigma, 0.0);
+  const kernels::SparseRowMatrix features = kernels::shift_basis(state_kernels, kActions, model);
+  const std::vector<std::int32_t> rows = *kernels::shift_basis_rows(state_kernels, kActions, model);
   kernels::RandomStream rng(23, 0, 0);
   Eigen::VectorXd weights(features.cols());
   for (Eigen::Index e = 0; e < weights.size(); ++e) weights(e) = rng.uniform(-1, 1);
   for (auto _ : state) {
     const std::vector<std::int32_t> policy =
-        action_block ? kernels::action_block_greedy(features, kActions, weights)
-                     : kernels::greedy_policy(features, kActions, weights);
+        method == GreedyMethod::action_block
+            ? kernels::action_block_greedy(features, kActions, weights)
+        : method == GreedyMethod::shared_rows
+            ? kernels::shared_row_greedy(state_kernels, rows, kActions, weights)
+            : kernels::greedy_policy(features, kActions, weights);
     benchmark::DoNotOptimize(policy.data());
   }
+}
+
+// A deterministic task's whole fit, as the arm's GGK fits run it (BRM, untruncated
+// kernels, p centres, the grid problem above): method:table forms the shift table
+// and fits it (fit_lspi, the path before shared rows), method:shared_rows fits
+// through the kernels' rows (fit_lspi_shared_rows, kernels/shared_row_basis.hpp):
+// the same fit bit for bit.
+void BM_DeterministicShiftFit(benchmark::State& state, bool shared_rows) {
+  const auto p = static_cast<std::int32_t>(state.range(0));
+  const GridProblem problem = make_problem(p);
+  const kernels::RowMatrixXd distances =
+      kernels::geodesic_distances(problem.graph, problem.centers);
+  const kernels::SparseRowMatrix state_kernels =
+      kernels::geodesic_gaussian_kernels(distances, kSigma, 0.0);
+  const kernels::EmpiricalTransitionModel model(
+      problem.graph.num_nodes, kActions, problem.samples.states, problem.samples.actions,
+      problem.samples.next_states, problem.samples.weights);
+  kernels::LspiOptions options;
+  options.ridge = 1e-6;
+  std::int64_t iterations = 0;
+  for (auto _ : state) {
+    kernels::LspiResult result;
+    if (shared_rows) {
+      const std::vector<std::int32_t> rows =
+          *kernels::shift_basis_rows(state_kernels, kActions, model);
+      result =
+          kernels::fit_lspi_shared_rows(state_kernels, rows, kActions, problem.samples, options);
+    } else {
+      result = kernels::fit_lspi(kernels::shift_basis(state_kernels, kActions, model), kActions,
+                                 problem.samples, options);
+    }
+    if (!result.ok()) state.SkipWithError(result.message.c_str());
+    iterations = result.iterations();
+    benchmark::DoNotOptimize(result.weights.data());
+  }
+  state.counters["lspi_iterations"] = static_cast<double>(iterations);
 }
 
 // The greedy step of a copy basis over a Khepera-sized state-kernel table (20,200
@@ -426,11 +472,24 @@ const bool kRegistered = [] {
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
   }
-  for (const bool action_block : {false, true}) {
-    benchmark::RegisterBenchmark((std::string("BM_ActionBlockGreedy/method:") +
-                                  (action_block ? "action_block" : "sparse_product"))
-                                     .c_str(),
-                                 BM_ActionBlockGreedy, action_block)
+  const std::pair<const char*, GreedyMethod> greedy_methods[] = {
+      {"sparse_product", GreedyMethod::sparse_product},
+      {"action_block", GreedyMethod::action_block},
+      {"shared_rows", GreedyMethod::shared_rows}};
+  for (const auto& [name, method] : greedy_methods) {
+    benchmark::RegisterBenchmark((std::string("BM_ActionBlockGreedy/method:") + name).c_str(),
+                                 BM_ActionBlockGreedy, method)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  }
+  for (const bool shared_rows : {false, true}) {
+    benchmark::RegisterBenchmark(
+        (std::string("BM_DeterministicShiftFit/method:") + (shared_rows ? "shared_rows" : "table"))
+            .c_str(),
+        BM_DeterministicShiftFit, shared_rows)
+        ->ArgName("p")
+        ->Arg(32)
+        ->Arg(128)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
   }

@@ -34,8 +34,20 @@ std::string action_block_violation(const SparseRowMatrix& features, std::int32_t
 // that gather and weighted_rewards read as they did.
 class ActionBlockFixed {
  public:
-  ActionBlockFixed(const SparseRowMatrix& features, bool copy_rows, std::int32_t num_actions,
+  // copy_rows: features holds state kernels (p columns), kappa(s, a) its row s, or
+  // its row row_of_pair[s m + a] where row_of_pair is not empty; else features is
+  // the table and kappa(s, a) its row s m + a, in block a.
+  ActionBlockFixed(const SparseRowMatrix& features, bool copy_rows,
+                   std::span<const std::int32_t> row_of_pair, std::int32_t num_actions,
                    const SampleBatch& samples);
+
+  // The row of features_ that holds kappa(state, action).
+  Eigen::Index table_row(std::int64_t state, std::int32_t action) const {
+    if (!row_of_pair_.empty()) {
+      return row_of_pair_[static_cast<std::size_t>(state * num_actions_ + action)];
+    }
+    return copy_rows_ ? state : state * num_actions_ + action;
+  }
 
   // Row r of the result (a rows.size() x p view of `buffer`, grown as needed) is
   // sqrt(w_i) kappa(s, action) for sample i = rows[r], s its start (next_state =
@@ -48,6 +60,7 @@ class ActionBlockFixed {
 
   const SparseRowMatrix& features_;
   bool copy_rows_;
+  std::span<const std::int32_t> row_of_pair_;
   const SampleBatch& samples_;
   std::int32_t num_actions_;
   Eigen::Index p_;
@@ -60,9 +73,11 @@ class ActionBlockFixed {
 };
 
 ActionBlockFixed::ActionBlockFixed(const SparseRowMatrix& features, bool copy_rows,
+                                   std::span<const std::int32_t> row_of_pair,
                                    std::int32_t num_actions, const SampleBatch& samples)
     : features_(features),
       copy_rows_(copy_rows),
+      row_of_pair_(row_of_pair),
       samples_(samples),
       num_actions_(num_actions),
       p_(copy_rows ? features.cols() : features.cols() / num_actions),
@@ -76,7 +91,13 @@ ActionBlockFixed::ActionBlockFixed(const SparseRowMatrix& features, bool copy_ro
     by_action[static_cast<std::size_t>(samples.actions[i])].push_back(static_cast<std::int32_t>(i));
   }
   for (std::size_t i = 0; i < samples.size(); ++i) live_samples_ += samples.terminals[i] ? 0 : 1;
+  // What the table holds: the rows of features it is made of (with shared rows,
+  // those some pair reads; every row otherwise).
+  std::vector<std::uint8_t> in_table(static_cast<std::size_t>(features.rows()),
+                                     row_of_pair.empty() ? 1 : 0);
+  for (const std::int32_t row : row_of_pair) in_table[static_cast<std::size_t>(row)] = 1;
   for (Eigen::Index row = 0; row < features.rows() && !table_has_zeros_; ++row) {
+    if (!in_table[static_cast<std::size_t>(row)]) continue;
     Eigen::Index nonzeros = 0;
     for (SparseRowMatrix::InnerIterator it(features, row); it; ++it) {
       nonzeros += it.value() != 0.0 ? 1 : 0;
@@ -88,8 +109,11 @@ ActionBlockFixed::ActionBlockFixed(const SparseRowMatrix& features, bool copy_ro
   // underflow (rounding is monotonic: no other product is smaller).
   if (!table_has_zeros_) {
     double smallest_value = std::numeric_limits<double>::infinity();
-    for (Eigen::Index e = 0; e < features.nonZeros(); ++e) {
-      smallest_value = std::min(smallest_value, std::abs(features.valuePtr()[e]));
+    for (Eigen::Index row = 0; row < features.rows(); ++row) {
+      if (!in_table[static_cast<std::size_t>(row)]) continue;
+      for (SparseRowMatrix::InnerIterator it(features, row); it; ++it) {
+        smallest_value = std::min(smallest_value, std::abs(it.value()));
+      }
     }
     double smallest_root = std::numeric_limits<double>::infinity();
     for (const double root : sqrt_weights_) smallest_root = std::min(smallest_root, root);
@@ -109,20 +133,29 @@ ActionBlockFixed::ActionBlockFixed(const SparseRowMatrix& features, bool copy_ro
 
 ActionBlockSystem::ActionBlockSystem(const SparseRowMatrix& features, std::int32_t num_actions,
                                      const SampleBatch& samples, LspiSolver solver, double gamma)
-    : ActionBlockSystem(
-          std::make_shared<const ActionBlockFixed>(features, false, num_actions, samples), solver,
-          gamma) {}
+    : ActionBlockSystem(std::make_shared<const ActionBlockFixed>(
+                            features, false, std::span<const std::int32_t>(), num_actions, samples),
+                        solver, gamma) {}
+
+ActionBlockSystem::ActionBlockSystem(SharedRowsTag, const SparseRowMatrix& kernels,
+                                     std::span<const std::int32_t> row_of_pair,
+                                     std::int32_t num_actions, const SampleBatch& samples,
+                                     LspiSolver solver, double gamma)
+    : ActionBlockSystem(std::make_shared<const ActionBlockFixed>(kernels, true, row_of_pair,
+                                                                 num_actions, samples),
+                        solver, gamma) {}
 
 ActionBlockSystem::ActionBlockSystem(CopyBasisTag, const SparseRowMatrix& state_kernels,
                                      std::int32_t num_actions, const SampleBatch& samples,
                                      LspiSolver solver, double gamma,
                                      std::shared_ptr<const ActionBlockFixed> shared)
-    : ActionBlockSystem(shared ? std::move(shared)
-                               : std::make_shared<const ActionBlockFixed>(state_kernels, true,
-                                                                          num_actions, samples),
-                        solver, gamma) {
+    : ActionBlockSystem(
+          shared ? std::move(shared)
+                 : std::make_shared<const ActionBlockFixed>(
+                       state_kernels, true, std::span<const std::int32_t>(), num_actions, samples),
+          solver, gamma) {
   if (&features_ != &state_kernels || &samples_ != &samples || num_actions_ != num_actions ||
-      !copy_rows_) {
+      !copy_rows_ || !fixed_->row_of_pair_.empty()) {
     throw std::invalid_argument(
         "ActionBlockSystem: the shared fixed part was made for other state kernels, samples or "
         "actions");
@@ -140,7 +173,8 @@ std::shared_ptr<const ActionBlockFixed> ActionBlockSystem::copy_basis_fixed(
         "ActionBlockSystem::copy_basis_fixed: " + std::to_string(num_actions) + " actions");
   }
   samples.validate(static_cast<std::int32_t>(state_kernels.rows()), num_actions);
-  return std::make_shared<const ActionBlockFixed>(state_kernels, true, num_actions, samples);
+  return std::make_shared<const ActionBlockFixed>(
+      state_kernels, true, std::span<const std::int32_t>(), num_actions, samples);
 }
 
 ActionBlockSystem::ActionBlockSystem(std::shared_ptr<const ActionBlockFixed> fixed,
@@ -198,8 +232,7 @@ Eigen::Map<Eigen::MatrixXd> ActionBlockFixed::gather(const std::vector<std::int3
     for (Eigen::Index b = 0; b < count; ++b) {
       const auto i = static_cast<std::size_t>(rows[static_cast<std::size_t>(r0 + b)]);
       const std::int64_t state = next_state ? samples_.next_states[i] : samples_.states[i];
-      const auto table_row =
-          static_cast<Eigen::Index>(copy_rows_ ? state : state * num_actions_ + action);
+      const Eigen::Index table_row = this->table_row(state, action);
       begin[b] = outer[table_row];
       end[b] = row_sizes ? begin[b] + row_sizes[table_row] : outer[table_row + 1];
       scale[b] = sqrt_weights_[i];

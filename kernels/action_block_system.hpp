@@ -40,6 +40,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -80,6 +81,16 @@ class ActionBlockSystem {
   ActionBlockSystem(CopyBasisTag, const SparseRowMatrix& state_kernels, std::int32_t num_actions,
                     const SampleBatch& samples, LspiSolver solver, double gamma,
                     std::shared_ptr<const ActionBlockFixed> shared = nullptr);
+  // The table whose row s m + a is row row_of_pair[s m + a] of `kernels` (R x p) in
+  // block a (shared_row_basis.hpp): the same A and b bit for bit as for
+  // shared_row_table(kernels, row_of_pair, num_actions), without forming it. Keeps
+  // references to kernels, row_of_pair and samples (rows and samples checked by
+  // fit_lspi_shared_rows).
+  struct SharedRowsTag {};
+  static constexpr SharedRowsTag shared_rows_tag{};
+  ActionBlockSystem(SharedRowsTag, const SparseRowMatrix& kernels,
+                    std::span<const std::int32_t> row_of_pair, std::int32_t num_actions,
+                    const SampleBatch& samples, LspiSolver solver, double gamma);
   // The copy basis's fixed part, to share between systems. std::invalid_argument
   // unless state_kernels is compressed and the samples valid for its rows.
   static std::shared_ptr<const ActionBlockFixed> copy_basis_fixed(
@@ -149,7 +160,7 @@ class ActionBlockSystem {
   std::shared_ptr<const ActionBlockFixed> fixed_;
   // Of *fixed_, by their names before it was shared.
   const SparseRowMatrix& features_;  // the table, or the state kernels (copy_rows_)
-  bool copy_rows_;                   // features_ row s is kappa(s, a) for every a
+  bool copy_rows_;  // features_ holds state kernels: kappa(s, a) is a row of it, in columns 0 .. p
   const SampleBatch& samples_;
   std::int32_t num_actions_;
   Eigen::Index p_;

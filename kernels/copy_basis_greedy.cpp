@@ -24,13 +24,13 @@ bool dense_block(const SparseRowMatrix& kernels, Eigen::Index row_step, std::siz
   return dense;
 }
 
-// The greedy actions of states [first, last), one state at a time, for m =
-// kActions actions (any m when kActions is 0). A fixed-size local array stays in
-// registers; each action's sum runs in entry order.
-template <std::int32_t kActions>
-void copy_greedy_states(const SparseRowMatrix& kernels, Eigen::Index row_step,
-                        std::int32_t num_actions, const std::vector<double>& by_center,
-                        std::vector<std::int32_t>& policy, std::size_t first, std::size_t last) {
+// The Q values of states [first, last), one state at a time, for m = kActions
+// actions (any m when kActions is 0), each handed to emit(s, q) (q[0 .. m)). A
+// fixed-size local array stays in registers; each action's sum runs in entry order.
+template <std::int32_t kActions, class Emit>
+void copy_q_states(const SparseRowMatrix& kernels, Eigen::Index row_step, std::int32_t num_actions,
+                   const std::vector<double>& by_center, std::size_t first, std::size_t last,
+                   const Emit& emit) {
   const std::int32_t m = kActions > 0 ? kActions : num_actions;
   const auto* outer = kernels.outerIndexPtr();
   const auto* inner = kernels.innerIndexPtr();
@@ -46,7 +46,7 @@ void copy_greedy_states(const SparseRowMatrix& kernels, Eigen::Index row_step,
       const double* w = by_center.data() + static_cast<std::size_t>(inner[e]) * m;
       for (std::int32_t a = 0; a < m; ++a) q[a] += v * w[a];
     }
-    policy[s] = first_best(q, m);
+    emit(s, static_cast<const double*>(q));
   }
 }
 
@@ -54,19 +54,17 @@ void copy_greedy_states(const SparseRowMatrix& kernels, Eigen::Index row_step,
 // four rows are dense (p entries: columns 0 .. p - 1 in order): four independent
 // sums per action in flight instead of one chain of dependent additions; each sums
 // the same products in the same order.
-template <std::int32_t kActions>
-void copy_greedy_rows(const SparseRowMatrix& kernels, Eigen::Index row_step,
-                      std::int32_t num_actions, const std::vector<double>& by_center,
-                      std::vector<std::int32_t>& policy) {
+template <std::int32_t kActions, class Emit>
+void copy_q_rows(const SparseRowMatrix& kernels, Eigen::Index row_step, std::int32_t num_actions,
+                 const std::vector<double>& by_center, std::size_t num_states, const Emit& emit) {
   std::size_t s = 0;
   if constexpr (kActions > 0) {
     const auto p = static_cast<std::int64_t>(by_center.size()) / kActions;
     constexpr std::size_t kLanes = 4;
-    for (; s + kLanes <= policy.size(); s += kLanes) {
+    for (; s + kLanes <= num_states; s += kLanes) {
       const double* v[kLanes];
       if (!dense_block(kernels, row_step, s, p, v)) {
-        copy_greedy_states<kActions>(kernels, row_step, num_actions, by_center, policy, s,
-                                     s + kLanes);
+        copy_q_states<kActions>(kernels, row_step, num_actions, by_center, s, s + kLanes, emit);
         continue;
       }
       double q[kLanes][kActions] = {};
@@ -76,10 +74,10 @@ void copy_greedy_rows(const SparseRowMatrix& kernels, Eigen::Index row_step,
           for (std::int32_t a = 0; a < kActions; ++a) q[b][a] += v[b][j] * w[a];
         }
       }
-      for (std::size_t b = 0; b < kLanes; ++b) policy[s + b] = first_best(q[b], kActions);
+      for (std::size_t b = 0; b < kLanes; ++b) emit(s + b, static_cast<const double*>(q[b]));
     }
   }
-  copy_greedy_states<kActions>(kernels, row_step, num_actions, by_center, policy, s, policy.size());
+  copy_q_states<kActions>(kernels, row_step, num_actions, by_center, s, num_states, emit);
 }
 
 #if GGK_AVX2_DISPATCH
@@ -88,17 +86,18 @@ void copy_greedy_rows(const SparseRowMatrix& kernels, Eigen::Index row_step,
 // multiply then an add per entry (the target has no FMA, so none is fused): each
 // Q(s, a) is the portable path's sum, term by term. Other rows go through the
 // portable path's per-state loop.
-__attribute__((target("avx2"))) void copy_greedy_rows_avx2(const SparseRowMatrix& kernels,
-                                                           Eigen::Index row_step,
-                                                           const std::vector<double>& by_center,
-                                                           std::vector<std::int32_t>& policy) {
+template <class Emit>
+__attribute__((target("avx2"))) void copy_q_rows_avx2(const SparseRowMatrix& kernels,
+                                                      Eigen::Index row_step,
+                                                      const std::vector<double>& by_center,
+                                                      std::size_t num_states, const Emit& emit) {
   constexpr std::size_t kLanes = 8;
   const auto p = static_cast<std::int64_t>(by_center.size()) / 4;
   std::size_t s = 0;
-  for (; s + kLanes <= policy.size(); s += kLanes) {
+  for (; s + kLanes <= num_states; s += kLanes) {
     const double* v[kLanes];
     if (!dense_block(kernels, row_step, s, p, v)) {
-      copy_greedy_states<4>(kernels, row_step, 4, by_center, policy, s, s + kLanes);
+      copy_q_states<4>(kernels, row_step, 4, by_center, s, s + kLanes, emit);
       continue;
     }
     __m256d q[kLanes];
@@ -112,45 +111,67 @@ __attribute__((target("avx2"))) void copy_greedy_rows_avx2(const SparseRowMatrix
     for (std::size_t b = 0; b < kLanes; ++b) {
       alignas(32) double lane[4];
       _mm256_store_pd(lane, q[b]);
-      policy[s + b] = first_best(lane, 4);
+      emit(s + b, static_cast<const double*>(lane));
     }
   }
-  copy_greedy_states<4>(kernels, row_step, 4, by_center, policy, s, policy.size());
+  copy_q_states<4>(kernels, row_step, 4, by_center, s, num_states, emit);
 }
 #endif
 
-}  // namespace
-
-// The weights are read centre-major (w[a p + j] at j m + a) so one entry serves
-// all actions.
-std::vector<std::int32_t> copy_greedy(const SparseRowMatrix& kernels, Eigen::Index row_step,
-                                      Eigen::Index p, std::int32_t num_actions,
-                                      const Eigen::VectorXd& weights,
-                                      GreedyInstructions instructions) {
+// Q(s, .) of every state, handed to emit(s, q) (q[0 .. m)), on the path
+// `instructions` picks. The weights are read centre-major (w[a p + j] at j m + a)
+// so one entry serves all actions.
+template <class Emit>
+void for_each_copy_q(const SparseRowMatrix& kernels, Eigen::Index row_step, Eigen::Index p,
+                     std::int32_t num_actions, const Eigen::VectorXd& weights,
+                     GreedyInstructions instructions, const Emit& emit) {
   std::vector<double> by_center(static_cast<std::size_t>(p * num_actions));
   for (Eigen::Index j = 0; j < p; ++j) {
     for (std::int32_t a = 0; a < num_actions; ++a) {
       by_center[static_cast<std::size_t>(j * num_actions + a)] = weights(a * p + j);
     }
   }
-  std::vector<std::int32_t> policy(static_cast<std::size_t>(kernels.rows() / row_step), 0);
+  const auto num_states = static_cast<std::size_t>(kernels.rows() / row_step);
   switch (num_actions) {
     case 2:
-      copy_greedy_rows<2>(kernels, row_step, num_actions, by_center, policy);
+      copy_q_rows<2>(kernels, row_step, num_actions, by_center, num_states, emit);
       break;
     case 4:
 #if GGK_AVX2_DISPATCH
       if (instructions == GreedyInstructions::automatic && cpu_has_avx2()) {
-        copy_greedy_rows_avx2(kernels, row_step, by_center, policy);
+        copy_q_rows_avx2(kernels, row_step, by_center, num_states, emit);
         break;
       }
 #endif
-      copy_greedy_rows<4>(kernels, row_step, num_actions, by_center, policy);
+      copy_q_rows<4>(kernels, row_step, num_actions, by_center, num_states, emit);
       break;
     default:
-      copy_greedy_rows<0>(kernels, row_step, num_actions, by_center, policy);
+      copy_q_rows<0>(kernels, row_step, num_actions, by_center, num_states, emit);
   }
+}
+
+}  // namespace
+
+std::vector<std::int32_t> copy_greedy(const SparseRowMatrix& kernels, Eigen::Index row_step,
+                                      Eigen::Index p, std::int32_t num_actions,
+                                      const Eigen::VectorXd& weights,
+                                      GreedyInstructions instructions) {
+  std::vector<std::int32_t> policy(static_cast<std::size_t>(kernels.rows() / row_step), 0);
+  for_each_copy_q(kernels, row_step, p, num_actions, weights, instructions,
+                  [&](std::size_t s, const double* q) { policy[s] = first_best(q, num_actions); });
   return policy;
+}
+
+RowMatrixXd copy_action_values(const SparseRowMatrix& kernels, Eigen::Index row_step,
+                               Eigen::Index p, std::int32_t num_actions,
+                               const Eigen::VectorXd& weights, GreedyInstructions instructions) {
+  RowMatrixXd values(kernels.rows() / row_step, num_actions);
+  double* out = values.data();
+  for_each_copy_q(kernels, row_step, p, num_actions, weights, instructions,
+                  [&](std::size_t s, const double* q) {
+                    std::copy(q, q + num_actions, out + s * static_cast<std::size_t>(num_actions));
+                  });
+  return values;
 }
 
 }  // namespace ggk::kernels

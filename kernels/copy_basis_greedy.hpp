@@ -36,4 +36,12 @@ std::vector<std::int32_t> copy_greedy(
     const Eigen::VectorXd& weights,
     GreedyInstructions instructions = GreedyInstructions::automatic);
 
+// The Q values the greedy step compares: row s holds Q(s, 0 .. m) (kernels.rows() /
+// row_step rows), each the same double as action_values(copy table, weights) gives
+// for row s m + a (for shared_row_basis.hpp's tables, which look them up).
+RowMatrixXd copy_action_values(const SparseRowMatrix& kernels, Eigen::Index row_step,
+                               Eigen::Index p, std::int32_t num_actions,
+                               const Eigen::VectorXd& weights,
+                               GreedyInstructions instructions = GreedyInstructions::automatic);
+
 }  // namespace ggk::kernels

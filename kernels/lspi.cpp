@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -11,6 +12,7 @@
 #include "kernels/action_block_system.hpp"
 #include "kernels/copy_basis_greedy.hpp"
 #include "kernels/dense_solvers.hpp"
+#include "kernels/shared_row_basis.hpp"
 
 namespace ggk::kernels {
 
@@ -447,6 +449,26 @@ LspiResult fit_lspi_copy_basis(const SparseRowMatrix& row_kernels,
     result.policy = std::move(policy);
   }
   return result;
+}
+
+LspiResult fit_lspi_shared_rows(const SparseRowMatrix& kernels,
+                                std::span<const std::int32_t> row_of_pair, std::int32_t num_actions,
+                                const SampleBatch& samples, const LspiOptions& options) {
+  check_options(num_actions, options);
+  SparseRowMatrix storage;
+  const SparseRowMatrix& compressed_kernels = compressed(kernels, storage);
+  check_shared_rows(compressed_kernels, row_of_pair, num_actions, "fit_lspi_shared_rows");
+  const std::size_t num_states = row_of_pair.size() / static_cast<std::size_t>(num_actions);
+  if (num_states > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max())) {
+    throw std::invalid_argument("fit_lspi_shared_rows: more than 2^31 - 1 states");
+  }
+  samples.validate(static_cast<std::int32_t>(num_states), num_actions);
+  ActionBlockSystem system(ActionBlockSystem::shared_rows_tag, compressed_kernels, row_of_pair,
+                           num_actions, samples, options.solver, options.gamma);
+  return iterate_policies(
+      system, sample_state_flags(num_states, samples), options, [&](const Eigen::VectorXd& w) {
+        return shared_row_greedy(compressed_kernels, row_of_pair, num_actions, w);
+      });
 }
 
 }  // namespace ggk::kernels

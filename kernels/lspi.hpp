@@ -156,6 +156,17 @@ LspiResult fit_lspi_copy_basis(const SparseRowMatrix& row_kernels,
                                std::span<const std::int32_t> row_of_state, std::int32_t num_actions,
                                const SampleBatch& samples, const LspiOptions& options);
 
+// fit_lspi(shared_row_table(kernels, row_of_pair, num_actions), num_actions,
+// samples, options) from the kernels and the index alone (shared_row_basis.hpp:
+// the copy scheme, and the shift scheme of a deterministic model), bit for bit the
+// same result, without the table or the pass that builds it; the system gathers
+// and the greedy step reads R p kernel values instead of N m p table values.
+// std::invalid_argument on rows outside the kernels, a row_of_pair that is not a
+// whole number of states, or samples outside its N states.
+LspiResult fit_lspi_shared_rows(const SparseRowMatrix& kernels,
+                                std::span<const std::int32_t> row_of_pair, std::int32_t num_actions,
+                                const SampleBatch& samples, const LspiOptions& options);
+
 // Q(s, a) for every table row, i.e. features * w.
 Eigen::VectorXd action_values(const SparseRowMatrix& features, const Eigen::VectorXd& weights);
 

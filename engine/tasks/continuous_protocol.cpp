@@ -20,7 +20,7 @@
 #include "kernels/gaussian_kernels.hpp"
 #include "kernels/graph_diagnostics.hpp"
 #include "kernels/lspi.hpp"
-#include "kernels/state_action_basis.hpp"
+#include "kernels/state_action_table.hpp"
 #include "kernels/transition_model.hpp"
 
 namespace ggk::engine {
@@ -174,8 +174,8 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point, const FitTab
   // kernels (the same result bit for bit).
   const kernels::BasisScheme scheme = pvf ? ctx.job->pvf.actions : ctx.job->basis.scheme;
   if (scheme == kernels::BasisScheme::shift) {
-    fit.lspi = kernels::fit_lspi(kernels::shift_basis(table.kernels, m, *ctx.model), m, ctx.batch,
-                                 lspi_options(point));
+    fit.lspi = kernels::StateActionTable(table.kernels, m, scheme, ctx.model.get())
+                   .fit(ctx.batch, lspi_options(point));
   } else if (table.row_of_state.empty()) {
     fit.lspi =
         kernels::fit_lspi_copy_basis(table.kernels, m, ctx.batch, lspi_options(point), shared);

@@ -19,7 +19,7 @@
 #include "kernels/gaussian_kernels.hpp"
 #include "kernels/graph_diagnostics.hpp"
 #include "kernels/nearest_visited.hpp"
-#include "kernels/state_action_basis.hpp"
+#include "kernels/state_action_table.hpp"
 #include "kernels/transition_model.hpp"
 
 namespace ggk::engine {
@@ -261,13 +261,12 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
       throw non_finite_kernel_error(ctx.run, point, e);
     }
   }
+  // Read through the state kernels' rows where the table is made of them (the
+  // copy scheme, the arm's deterministic shift scheme), else formed: the same fit.
   const kernels::BasisScheme scheme = pvf ? ctx.job->pvf.actions : ctx.job->basis.scheme;
-  const kernels::SparseRowMatrix features =
-      scheme == kernels::BasisScheme::shift
-          ? kernels::shift_basis(state_kernels, env.num_actions, *ctx.model)
-          : kernels::copy_basis(state_kernels, env.num_actions);
+  const kernels::StateActionTable features(state_kernels, env.num_actions, scheme, ctx.model.get());
 
-  fit.lspi = kernels::fit_lspi(features, env.num_actions, ctx.batch, lspi_options(point));
+  fit.lspi = features.fit(ctx.batch, lspi_options(point));
   fit.status = kernels::to_string(fit.lspi.status);
   fit.message = fit.lspi.message;
 
@@ -288,16 +287,14 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point) {
                             test.steps,
                             ElementType::kInt32});
     }
-    const Eigen::VectorXd values =
-        kernels::state_values(features, env.num_actions, fit.lspi.weights);
+    const Eigen::VectorXd values = features.values(fit.lspi.weights);
     fit.arrays.push_back({"state_values",
                           {static_cast<std::int64_t>(values.size())},
                           std::vector<double>(values.data(), values.data() + values.size())});
     if (!fit.lspi.iterates.empty()) {
       // [lspi] evaluate_iterations: history/<tested metric> per iterate.
       add_iteration_history(fit, ctx.metrics, [&](const Eigen::VectorXd& w, FitMetrics& iterate) {
-        test_greedy_policy(ctx, kernels::greedy_policy(features, env.num_actions, w), iterate,
-                           nullptr);
+        test_greedy_policy(ctx, features.greedy(w), iterate, nullptr);
       });
     }
   }
