@@ -70,6 +70,8 @@ class ActionBlockFixed {
   std::int64_t live_samples_ = 0;
   bool table_has_zeros_ = false;
   bool gathered_without_zeros_ = false;
+  // kappa(s, a) is the same row for every a (the copy basis from its kernels).
+  bool bootstrap_free_ = false;
 };
 
 ActionBlockFixed::ActionBlockFixed(const SparseRowMatrix& features, bool copy_rows,
@@ -85,6 +87,12 @@ ActionBlockFixed::ActionBlockFixed(const SparseRowMatrix& features, bool copy_ro
       start_rhs_(Eigen::VectorXd::Zero(p_ * num_actions)) {
   std::vector<double> u_buffer, reward_buffer;
   use_calling_thread_blas();
+  // A copy table read as a table is one too: the same rows for every action.
+  bootstrap_free_ = copy_rows || is_copy_layout(features, num_actions);
+  const auto m = static_cast<std::size_t>(num_actions);
+  for (std::size_t pair = 0; pair < row_of_pair.size() && bootstrap_free_; ++pair) {
+    bootstrap_free_ = row_of_pair[pair] == row_of_pair[pair - pair % m];
+  }
   std::vector<std::vector<std::int32_t>> by_action(static_cast<std::size_t>(num_actions));
   for (std::size_t i = 0; i < samples.size(); ++i) {
     sqrt_weights_[i] = std::sqrt(samples.weights[i]);
@@ -192,7 +200,8 @@ ActionBlockSystem::ActionBlockSystem(std::shared_ptr<const ActionBlockFixed> fix
       start_rhs_(fixed_->start_rhs_),
       live_samples_(fixed_->live_samples_),
       table_has_zeros_(fixed_->table_has_zeros_),
-      gathered_without_zeros_(fixed_->gathered_without_zeros_) {
+      gathered_without_zeros_(fixed_->gathered_without_zeros_),
+      bootstrap_free_(fixed_->bootstrap_free_) {
   use_calling_thread_blas();
 }
 
@@ -320,7 +329,8 @@ void reset_unsupported(const Eigen::MatrixXd& support, bool lower, Eigen::Matrix
 }  // namespace
 
 void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>& groups,
-                                   double sign, PolicyBlocks& blocks, Scratch& scratch) const {
+                                   double sign, PolicyBlocks& blocks, Scratch& scratch,
+                                   const DerivedBlocks* derived) const {
   const auto m = static_cast<std::size_t>(num_actions_);
   const bool brm = solver_ == LspiSolver::brm;
   const bool block_supports = !blocks.cross_support.empty();
@@ -331,31 +341,44 @@ void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>&
     if (rows.empty()) continue;
     touched[g] = 1;
     const auto x = static_cast<std::int32_t>(g / m), y = static_cast<std::int32_t>(g % m);
-    const auto u = gather(rows, false, x, scratch.u);
-    const auto v = gather(rows, true, y, scratch.v);
+    // Blocks a rebuild by subtraction forms afterwards (subtract_from_totals).
+    const bool cross_derived =
+        derived != nullptr && derived->cross[static_cast<std::size_t>(x)] == y;
+    const bool next_derived = derived != nullptr && derived->next == y;
     blocks.group_sizes[g] +=
         static_cast<std::int64_t>(sign) * static_cast<std::int64_t>(rows.size());
-    if (blocks.group_sizes[g] == 0) {
-      blocks.cross[g].setZero();  // the sum over an empty group: exact zeros
-    } else if (sign > 0) {
-      blocks.cross[g].noalias() += u.transpose() * v;  // C_xy
-    } else {
-      blocks.cross[g].noalias() -= u.transpose() * v;
-    }
-    // The counts: the same products on the indicators of the non-zeros (exact
-    // integers in doubles).
-    if (block_supports) {
-      const auto u_support = nonzero_indicator(u, scratch.u_support);
-      const auto v_support = nonzero_indicator(v, scratch.v_support);
-      blocks.cross_support[g].noalias() += sign * (u_support.transpose() * v_support);
-      if (brm) {
-        blocks.next_support[static_cast<std::size_t>(y)].selfadjointView<Eigen::Lower>().rankUpdate(
-            v_support.transpose(), sign);
+    if (cross_derived && !brm) continue;  // LSTD-Q: the group's C is all it adds
+    const auto v = gather(rows, true, y, scratch.v);
+    if (!cross_derived) {
+      const auto u = gather(rows, false, x, scratch.u);
+      if (blocks.group_sizes[g] == 0) {
+        blocks.cross[g].setZero();  // the sum over an empty group: exact zeros
+      } else if (sign > 0) {
+        blocks.cross[g].noalias() += u.transpose() * v;  // C_xy
+      } else {
+        blocks.cross[g].noalias() -= u.transpose() * v;
+      }
+      // The counts: the same products on the indicators of the non-zeros (exact
+      // integers in doubles).
+      if (block_supports) {
+        const auto u_support = nonzero_indicator(u, scratch.u_support);
+        const auto v_support = nonzero_indicator(v, scratch.v_support);
+        blocks.cross_support[g].noalias() += sign * (u_support.transpose() * v_support);
       }
     }
+    const bool v_support_formed = block_supports && !cross_derived;
+    if (block_supports && brm && !next_derived) {
+      const auto v_support =
+          v_support_formed ? Eigen::Map<Eigen::MatrixXd>(scratch.v_support.data(), v.rows(), p_)
+                           : nonzero_indicator(v, scratch.v_support);
+      blocks.next_support[static_cast<std::size_t>(y)].selfadjointView<Eigen::Lower>().rankUpdate(
+          v_support.transpose(), sign);
+    }
     if (!brm) continue;
-    blocks.next[static_cast<std::size_t>(y)].selfadjointView<Eigen::Lower>().rankUpdate(
-        v.transpose(), sign * gamma_ * gamma_);
+    if (!next_derived) {
+      blocks.next[static_cast<std::size_t>(y)].selfadjointView<Eigen::Lower>().rankUpdate(
+          v.transpose(), sign * gamma_ * gamma_);
+    }
     const auto rewards = weighted_rewards(rows, scratch.rewards);
     blocks.rhs.segment(y * p_, p_).noalias() -= (sign * gamma_) * (v.transpose() * rewards);
     if (rhs_supports && gathered_without_zeros_) {
@@ -366,8 +389,9 @@ void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>&
       blocks.rhs_support.segment(y * p_, p_).array() += sign * nonzero_rewards;
     } else if (rhs_supports) {
       const auto v_support =
-          block_supports ? Eigen::Map<Eigen::MatrixXd>(scratch.v_support.data(), v.rows(), p_)
-                         : nonzero_indicator(v, scratch.v_support);
+          block_supports && (v_support_formed || !next_derived)
+              ? Eigen::Map<Eigen::MatrixXd>(scratch.v_support.data(), v.rows(), p_)
+              : nonzero_indicator(v, scratch.v_support);
       blocks.rhs_support.segment(y * p_, p_).noalias() +=
           sign * (v_support.transpose() * nonzero_indicator(rewards, scratch.reward_support));
     }
@@ -399,6 +423,93 @@ void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>&
     blocks.rhs.segment(static_cast<Eigen::Index>(y) * p_, p_) =
         start_rhs_.segment(static_cast<Eigen::Index>(y) * p_, p_);
   }
+}
+
+ActionBlockSystem::GroupTotals ActionBlockSystem::group_totals(const PolicyBlocks& blocks) const {
+  const auto m = static_cast<std::size_t>(num_actions_);
+  GroupTotals totals;
+  const auto sum_over_y = [&](const std::vector<Eigen::MatrixXd>& per_group, std::size_t x) {
+    Eigen::MatrixXd sum = per_group[x * m];
+    for (std::size_t y = 1; y < m; ++y) sum += per_group[x * m + y];
+    return sum;
+  };
+  const auto sum_all = [&](const std::vector<Eigen::MatrixXd>& per_action) {
+    Eigen::MatrixXd sum = per_action[0];
+    for (std::size_t y = 1; y < m; ++y) sum += per_action[y];
+    return sum;
+  };
+  for (std::size_t x = 0; x < m; ++x) {
+    totals.cross.push_back(sum_over_y(blocks.cross, x));
+    if (!blocks.cross_support.empty()) {
+      totals.cross_support.push_back(sum_over_y(blocks.cross_support, x));
+    }
+  }
+  if (!blocks.next.empty()) totals.next = sum_all(blocks.next);
+  if (!blocks.next_support.empty()) totals.next_support = sum_all(blocks.next_support);
+  return totals;
+}
+
+ActionBlockSystem::DerivedBlocks ActionBlockSystem::largest_groups(
+    const std::vector<std::vector<std::int32_t>>& groups) const {
+  const auto m = static_cast<std::size_t>(num_actions_);
+  DerivedBlocks derived;
+  derived.cross.assign(m, -1);
+  std::vector<std::size_t> bootstrapping(m, 0);  // samples per bootstrap action
+  for (std::size_t x = 0; x < m; ++x) {
+    std::size_t largest = 0;
+    for (std::size_t y = 0; y < m; ++y) {
+      const std::size_t size = groups[x * m + y].size();
+      bootstrapping[y] += size;
+      if (size > largest) {
+        largest = size;
+        derived.cross[x] = static_cast<std::int32_t>(y);
+      }
+    }
+  }
+  if (solver_ != LspiSolver::brm) return derived;
+  std::size_t largest = 0;
+  for (std::size_t y = 0; y < m; ++y) {
+    if (bootstrapping[y] > largest) {
+      largest = bootstrapping[y];
+      derived.next = static_cast<std::int32_t>(y);
+    }
+  }
+  return derived;
+}
+
+void ActionBlockSystem::subtract_from_totals(const DerivedBlocks& derived,
+                                             PolicyBlocks& blocks) const {
+  const auto m = static_cast<std::size_t>(num_actions_);
+  for (std::size_t x = 0; x < m; ++x) {
+    if (derived.cross[x] < 0) continue;
+    const std::size_t g = x * m + static_cast<std::size_t>(derived.cross[x]);
+    Eigen::MatrixXd& cross = blocks.cross[g];
+    cross = totals_.cross[x];
+    for (std::size_t y = 0; y < m; ++y) {
+      if (x * m + y != g) cross -= blocks.cross[x * m + y];
+    }
+    if (blocks.cross_support.empty()) continue;
+    Eigen::MatrixXd& support = blocks.cross_support[g];
+    support = totals_.cross_support[x];
+    for (std::size_t y = 0; y < m; ++y) {
+      if (x * m + y != g) support -= blocks.cross_support[x * m + y];
+    }
+    reset_unsupported(support, false, cross);
+  }
+  if (derived.next < 0) return;
+  const auto star = static_cast<std::size_t>(derived.next);
+  Eigen::MatrixXd& next = blocks.next[star];
+  next = totals_.next;
+  for (std::size_t y = 0; y < m; ++y) {
+    if (y != star) next -= blocks.next[y];
+  }
+  if (blocks.next_support.empty()) return;
+  Eigen::MatrixXd& support = blocks.next_support[star];
+  support = totals_.next_support;
+  for (std::size_t y = 0; y < m; ++y) {
+    if (y != star) support -= blocks.next_support[y];
+  }
+  reset_unsupported(support, true, next);
 }
 
 void ActionBlockSystem::compose(const PolicyBlocks& blocks, Eigen::MatrixXd& a,
@@ -449,9 +560,21 @@ std::int64_t ActionBlockSystem::update(const std::vector<std::int32_t>& policy, 
     }
   }
   last_rebuilt_ = bootstrap_.empty() || 2 * changed >= live_samples_;
+  last_subtracted_ = false;
   if (last_rebuilt_) {
     reset(cached_, true);
-    accumulate(full_groups(policy), 1.0, cached_, scratch_);
+    const std::vector<std::vector<std::int32_t>> groups = full_groups(policy);
+    if (bootstrap_free_ && !bootstrap_.empty()) {
+      // The sums over the bootstrap actions are known: the largest groups' blocks by
+      // subtraction.
+      const DerivedBlocks derived = largest_groups(groups);
+      accumulate(groups, 1.0, cached_, scratch_, &derived);
+      subtract_from_totals(derived, cached_);
+      last_subtracted_ = true;
+    } else {
+      accumulate(groups, 1.0, cached_, scratch_);
+      if (bootstrap_free_) totals_ = group_totals(cached_);
+    }
     bootstrap_.assign(n, -1);
     for (std::size_t i = 0; i < n; ++i) {
       if (!samples_.terminals[i]) {

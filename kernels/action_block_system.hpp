@@ -35,6 +35,24 @@
 // without any makes every count its group's size: an emptied group, reset
 // whole); they double the flops of an update and of update's rebuilds.
 //
+// The copy basis read from its state kernels (CopyBasisTag, or shared rows that
+// are the same for every action) has bootstrap vectors that do not depend on the
+// bootstrap action: v_i = sqrt(w_i) kappa(s'_i) whatever b_i, which only picks the
+// block. So sum_y C_xy (per x) and sum_y E_y are fixed by the samples, and a
+// rebuild after the first one forms every block but the largest group's
+// directly and that one by subtraction: C_xy* = sum_y C_xy - sum_{y != y*} C_xy,
+// y* the bootstrap action most of x's samples take, and E likewise (y* over all
+// samples). The Khepera's readings take "forward" 75-89 % of the time, so its PVF
+// BRM fits, whose policies oscillate and rebuild most iterations, skip most of
+// their products. The sums are formed from the first rebuild's blocks (bit for bit
+// as today, so fits that never rebuild again are unchanged); a subtracted block
+// differs from the directly summed one by rounding of the totals' magnitude (a few
+// ulps of sum_y |C_xy|: tests/kernels/action_block_system_test.cpp bounds it), and
+// its counts, exact integers, by subtraction too, reset the entries no sample of
+// the group reaches to exact zeros as `update` does. The right-hand side is always
+// summed directly (n p flops). last_update_subtracted() says when a rebuild did
+// this.
+//
 // Thread-safety: const members may be called from several threads; `update`
 // changes the object (one thread at a time).
 
@@ -108,6 +126,8 @@ class ActionBlockSystem {
   std::int64_t update(const std::vector<std::int32_t>& policy, Eigen::MatrixXd& a,
                       Eigen::VectorXd& b);
   bool last_update_rebuilt() const { return last_rebuilt_; }
+  // The last update was a rebuild with its largest groups' blocks by subtraction.
+  bool last_update_subtracted() const { return last_subtracted_; }
 
   // p: A is m x m blocks of this size, one per action pair.
   Eigen::Index block_size() const { return p_; }
@@ -129,6 +149,24 @@ class ActionBlockSystem {
     Eigen::VectorXd rhs_support;
   };
 
+  // The sums over the bootstrap actions of a system whose bootstrap vectors do not
+  // depend on them (bootstrap_free_): cross[x] = sum_y C_xy, next = sum_y E_y
+  // (lower triangle), and their counts where the blocks keep counts. Empty until the
+  // first rebuild forms them.
+  struct GroupTotals {
+    std::vector<Eigen::MatrixXd> cross;
+    Eigen::MatrixXd next;
+    std::vector<Eigen::MatrixXd> cross_support;
+    Eigen::MatrixXd next_support;
+  };
+
+  // The blocks a rebuild by subtraction derives instead of summing: C_{x, cross[x]}
+  // and E_next (-1: none).
+  struct DerivedBlocks {
+    std::vector<std::int32_t> cross;
+    std::int32_t next = -1;
+  };
+
   // Buffers of the gathered rows, reused from group to group and call to call (a
   // fresh matrix per group costs page faults and a zero fill of new pages).
   struct Scratch {
@@ -142,8 +180,18 @@ class ActionBlockSystem {
   // Adds (sign +1) or removes (sign -1) the samples `groups[x * m + y]` (each in
   // sample order) with bootstrap action y to / from the blocks; a removal resets
   // the entries no remaining sample reaches (where the blocks keep counts).
+  // `derived`: the blocks to leave out (a rebuild by subtraction), or null.
   void accumulate(const std::vector<std::vector<std::int32_t>>& groups, double sign,
-                  PolicyBlocks& blocks, Scratch& scratch) const;
+                  PolicyBlocks& blocks, Scratch& scratch,
+                  const DerivedBlocks* derived = nullptr) const;
+  // The totals from the blocks of a rebuild.
+  GroupTotals group_totals(const PolicyBlocks& blocks) const;
+  // The largest group of each x (C) and over all x (E), ties to the lowest action.
+  DerivedBlocks largest_groups(const std::vector<std::vector<std::int32_t>>& groups) const;
+  // Forms the `derived` blocks of `blocks` (whose other blocks are summed) by
+  // subtraction from totals_, their counts likewise, resetting the entries that no
+  // sample of the group reaches.
+  void subtract_from_totals(const DerivedBlocks& derived, PolicyBlocks& blocks) const;
   void compose(const PolicyBlocks& blocks, Eigen::MatrixXd& a, Eigen::VectorXd& b) const;
   // Non-terminal samples grouped by (a_i, b_i), each group in sample order.
   std::vector<std::vector<std::int32_t>> full_groups(const std::vector<std::int32_t>& policy) const;
@@ -179,6 +227,9 @@ class ActionBlockSystem {
   PolicyBlocks cached_;
   std::vector<std::int32_t> bootstrap_;
   bool last_rebuilt_ = false;
+  bool last_subtracted_ = false;
+  bool bootstrap_free_;  // v_i does not depend on b_i (the copy basis from its kernels)
+  GroupTotals totals_;
   Scratch scratch_;  // of `update`
 };
 

@@ -1,6 +1,8 @@
 #include "kernels/action_block_system.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -109,10 +111,11 @@ TEST_P(ActionBlockSystemTest, EqualsTheDefinitionForEveryPolicy) {
 }
 
 // update() against the full rebuild: policies that change a few states at a time
-// (rank-r updates), one that changes most (a rebuild, bit for bit as assemble), and
-// policies that empty whole (a_i, b_i) groups (their blocks back to exact zeros).
-// Tables with zeros (entry counts kept) and the dense copy table (no zero anywhere:
-// BRM's right-hand side counts its non-zero rewards per group instead).
+// (rank-r updates), one that changes most (a rebuild, bit for bit as assemble, or
+// for a copy table, whose later rebuilds subtract, within rounding), and policies
+// that empty whole (a_i, b_i) groups (their blocks back to exact zeros). Tables
+// with zeros (entry counts kept) and the dense copy table (no zero anywhere: BRM's
+// right-hand side counts its non-zero rewards per group instead).
 TEST_P(ActionBlockSystemTest, UpdateEqualsTheFullRebuild) {
   RandomStream rng(37, 0, 0);
   const SparseRowMatrix state_kernels = random_state_kernels(rng);
@@ -142,8 +145,10 @@ TEST_P(ActionBlockSystemTest, UpdateEqualsTheFullRebuild) {
       system.update(policy, a, b);
       system.assemble(policy, full_a, full_b);
       (system.last_update_rebuilt() ? rebuilds : updates) += 1;
-      if (system.last_update_rebuilt()) {
+      if (system.last_update_rebuilt() && !system.last_update_subtracted()) {
         EXPECT_EQ(a, full_a) << "trial " << trial;  // bit for bit
+      }
+      if (system.last_update_rebuilt()) {
         EXPECT_EQ(b, full_b) << "trial " << trial;
       }
       const double scale = full_a.cwiseAbs().maxCoeff();
@@ -157,6 +162,65 @@ TEST_P(ActionBlockSystemTest, UpdateEqualsTheFullRebuild) {
     }
     EXPECT_GT(updates, 20);
     EXPECT_GE(rebuilds, 2);
+  }
+}
+
+// The copy basis from its state kernels: a rebuild after the first forms the
+// largest group's blocks by subtraction from the sums over the bootstrap actions.
+// Against the directly summed system (assemble): b bit for bit (summed directly),
+// A within a few ulps of the totals' magnitude (the bound: 4 m eps times the
+// largest |entry| of gamma sum_y C_xy and gamma^2 sum_y E_y, which is at most
+// A's largest entry times (1 + gamma)^2 here), exact zeros where the direct sum
+// has them (no sample of the group reaches: reset by the counts), BRM and LSTD-Q,
+// kernels with zeros (random, banded) and without. The first rebuild is the direct one, bit for
+// bit, and only rebuilds subtract (a rank-r update does not).
+TEST_P(ActionBlockSystemTest, RebuildsBySubtractionStayWithinRoundingOfTheTotals) {
+  RandomStream rng(41, 0, 0);
+  const SampleBatch batch = random_samples(rng, 400);
+  // Banded kernels (each centre reaches 7 of the 40 states, as truncated ones do):
+  // entries of a group's block that none of its samples reaches.
+  std::vector<Eigen::Triplet<double>> band;
+  for (std::int32_t s = 0; s < kStates; ++s) {
+    for (std::int32_t j = 0; j < kCenters; ++j) {
+      if (std::abs(s - 6 * j - 3) < 4) band.emplace_back(s, j, 0.5 + rng.uniform());
+    }
+  }
+  SparseRowMatrix banded(kStates, kCenters);
+  banded.setFromTriplets(band.begin(), band.end());
+  for (const SparseRowMatrix& kernels :
+       {random_state_kernels(rng), banded, random_state_kernels(rng, true)}) {
+    ActionBlockSystem system(ActionBlockSystem::copy_basis_tag, kernels, kActions, batch,
+                             GetParam(), 0.9);
+    std::vector<std::int32_t> policy(kStates, 0);
+    Eigen::MatrixXd a, full_a;
+    Eigen::VectorXd b, full_b;
+    std::int32_t subtracted = 0;
+    for (int trial = 0; trial < 24; ++trial) {
+      if (trial % 3 == 2) {  // a few states: a rank-r update
+        policy[rng.uniform_index(kStates)] = static_cast<std::int32_t>(rng.uniform_index(kActions));
+      } else {  // most states, mostly to one action (as the Khepera's "forward"): a rebuild
+        for (std::int32_t& action : policy) {
+          action = rng.uniform() < 0.7 ? trial % kActions
+                                       : static_cast<std::int32_t>(rng.uniform_index(kActions));
+        }
+      }
+      system.update(policy, a, b);
+      system.assemble(policy, full_a, full_b);
+      EXPECT_EQ(system.last_update_subtracted(), system.last_update_rebuilt() && trial > 0)
+          << "trial " << trial;
+      if (trial == 0) {
+        EXPECT_EQ(a, full_a);
+      }
+      subtracted += system.last_update_subtracted() ? 1 : 0;
+      if (!system.last_update_subtracted()) continue;
+      EXPECT_EQ(b, full_b) << "trial " << trial;
+      const double bound = 4.0 * kActions * std::numeric_limits<double>::epsilon() * 1.9 * 1.9 *
+                           full_a.cwiseAbs().maxCoeff();
+      EXPECT_LE((a - full_a).cwiseAbs().maxCoeff(), bound) << "trial " << trial;
+      EXPECT_GT((a - full_a).cwiseAbs().maxCoeff(), 0.0) << "trial " << trial;  // not the sums
+      EXPECT_EQ(((a.array() == 0.0) != (full_a.array() == 0.0)).count(), 0) << "trial " << trial;
+    }
+    EXPECT_GE(subtracted, 10);
   }
 }
 
