@@ -379,6 +379,53 @@ BENCHMARK(BM_BrmRebuild)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// A BRM rebuild after the first, as the Khepera's PVF fits make most iterations
+// (their policies oscillate), at BM_BrmRebuild's shapes with the bootstrap actions
+// of the Khepera (80 % one action: 0 in one policy, 1 in the other, so that the
+// two differ in most samples and every update rebuilds): method:direct sums every group
+// (ActionBlockSystem::assemble, what every rebuild did before), method:subtraction
+// is update's rebuild (the largest groups' blocks by subtraction from the sums over
+// the bootstrap actions); the two policies alternate so that every update
+// rebuilds. Counter GFlops: 3 n p^2 flops (the direct rebuild's) per second.
+void BM_BrmRebuildAfterTheFirst(benchmark::State& state, bool subtraction) {
+  const auto p = static_cast<Eigen::Index>(state.range(0));
+  constexpr std::int32_t kReadings = 20200, kSamples = 20000;
+  kernels::RandomStream rng(17, 0, 0);
+  kernels::RowMatrixXd dense(kReadings, p);
+  for (Eigen::Index e = 0; e < dense.size(); ++e) dense.data()[e] = rng.uniform(-1, 1);
+  const kernels::SparseRowMatrix table = dense.sparseView();
+  kernels::SampleBatch samples;
+  for (std::int32_t i = 0; i < kSamples; ++i) {
+    samples.add(i, static_cast<std::int32_t>(rng.uniform_index(kActions)), rng.uniform(), i + 1,
+                false);
+  }
+  std::vector<std::int32_t> policies[2];
+  for (std::int32_t k = 0; k < 2; ++k) {
+    policies[k].resize(kReadings);
+    for (std::int32_t& action : policies[k]) {
+      action = rng.uniform() < 0.8 ? k : static_cast<std::int32_t>(rng.uniform_index(kActions));
+    }
+  }
+  kernels::ActionBlockSystem system(kernels::ActionBlockSystem::copy_basis_tag, table, kActions,
+                                    samples, kernels::LspiSolver::brm, 0.9);
+  Eigen::MatrixXd a;
+  Eigen::VectorXd b;
+  system.update(policies[1], a, b);  // the first rebuild: the sums
+  std::size_t next = 0;
+  for (auto _ : state) {
+    if (subtraction) {
+      system.update(policies[next], a, b);
+      if (!system.last_update_subtracted()) state.SkipWithError("the update did not subtract");
+    } else {
+      system.assemble(policies[next], a, b);
+    }
+    next = 1 - next;
+    benchmark::DoNotOptimize(a.data());
+  }
+  state.counters["GFlops"] = benchmark::Counter(3.0 * kSamples * static_cast<double>(p * p) / 1e9,
+                                                benchmark::Counter::kIsIterationInvariantRate);
+}
+
 // The systems of a BRM and an LSTD-Q fit of one table (what the Khepera's two
 // solvers at one kernel count build before their first iteration), at the
 // Khepera's shapes as BM_BrmRebuild (p = 100): shared:0 forms the fixed part (D_a
@@ -490,6 +537,18 @@ const bool kRegistered = [] {
         ->ArgName("p")
         ->Arg(32)
         ->Arg(128)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  }
+  for (const bool subtraction : {false, true}) {
+    benchmark::RegisterBenchmark((std::string("BM_BrmRebuildAfterTheFirst/method:") +
+                                  (subtraction ? "subtraction" : "direct"))
+                                     .c_str(),
+                                 BM_BrmRebuildAfterTheFirst, subtraction)
+        ->ArgName("p")
+        ->Arg(10)
+        ->Arg(50)
+        ->Arg(100)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
   }
