@@ -22,11 +22,11 @@
 // group (a_i, b_old) to (a_i, b_new): a rank-r update costing ~6 r p^2 flops (BRM)
 // instead of ~3 n p^2. It rebuilds everything instead when 2 r >= n_live (the
 // non-terminal samples) or on the first call; a rebuild gives A and b bit for bit
-// as `assemble` (but for the copy basis's rebuilds after the first, below). An updated A equals the rebuilt one up to rounding (the sums run
-// in another order: differences of a few ulps of the summed magnitudes).
-// Exact zeros stay exact: an entry of C, E or b that no sample of its group
-// reaches with a non-zero term (truncated kernels, unreachable centres, zero
-// rewards) is exactly zero in `assemble`, and a subtraction would leave rounding
+// as `assemble` (but for the copy basis's rebuilds after the first, below). An
+// updated A equals the rebuilt one up to rounding (the sums run in another order:
+// differences of a few ulps of the summed magnitudes). Exact zeros stay exact: an
+// entry of C, E or b that no sample of its group reaches with a non-zero term
+// (truncated kernels, unreachable centres, zero rewards) is exactly zero in `assemble`, and a subtraction would leave rounding
 // residue there instead (~1e-15 of the removed terms), which breaks the greedy
 // step's exact ties (lspi.hpp). So `update` also keeps, per entry, how many
 // samples of its group contribute a non-zero term (exact integers, from the same
