@@ -365,9 +365,11 @@ LspiResult fit_lspi(const SparseRowMatrix& features, std::int32_t num_actions,
                     const SampleBatch& samples, const LspiOptions& options) {
   check_inputs(features, num_actions, samples, options);
   const auto num_states = static_cast<std::size_t>(features.rows() / num_actions);
-  ActionBlockSystem system(features, num_actions, samples, options.solver, options.gamma);
   SparseRowMatrix storage;  // both greedy steps read the compressed arrays
   const SparseRowMatrix& table = compressed(features, storage);
+  // On the compressed table, whose copy layout the system can see (is_copy_layout
+  // reads compressed arrays): a copy table's rebuilds subtract as the kernels' do.
+  ActionBlockSystem system(table, num_actions, samples, options.solver, options.gamma);
   if (is_copy_layout(table, num_actions)) {
     const Eigen::Index p = table.cols() / num_actions;
     return iterate_policies(system, sample_state_flags(num_states, samples), options,

@@ -448,6 +448,10 @@ TEST(Lspi, CopyBasisFromStateKernelsEqualsTheTable) {
     const LspiResult table = fit_lspi(copy_basis(state_kernels, 2), 2, samples, options);
     const LspiResult kernels = fit_lspi_copy_basis(state_kernels, 2, samples, options);
     ASSERT_TRUE(table.ok());
+    // An uncompressed table is the same table (its rebuilds subtract as well).
+    SparseRowMatrix uncompressed = copy_basis(state_kernels, 2);
+    uncompressed.uncompress();
+    EXPECT_EQ(fit_lspi(uncompressed, 2, samples, options).weights, table.weights);
     EXPECT_EQ(kernels.status, table.status);
     EXPECT_EQ(kernels.weights, table.weights);
     EXPECT_EQ(kernels.policy, table.policy);
