@@ -222,9 +222,9 @@ int read_isolated(const std::vector<std::filesystem::path>& files, const std::fu
     // HDF5 does not survive every failed allocation: under the user's tight
     // limit a crash says nothing about the file.
     if (after_crash) after_crash(end.pid);
-    throw UsageError("reading " + names_of(files) + " crashed (" + ending_words(end) + ") under " +
-                     room.limit_words(names_of(files)) +
-                     ": HDF5 fails so when memory runs out; raise the limit (or lift it) to "
+    throw UsageError("not enough memory to read " + names_of(files) + " under " +
+                     room.limit_words(names_of(files)) + ": reading crashed (" + ending_words(end) +
+                     "), as HDF5 does when memory runs out; raise the limit (or lift it) to "
                      "read the file, or to tell whether it is damaged");
   }
   if (crashed(end)) {

@@ -363,9 +363,10 @@ OpenedResults open_results(const Study& study, const RunOptions& options, bool u
     // crashes HDF5 is never read here, where a crash would leave the lock.
     const ChildEnd vetted = read_whole_in_child(output);  // resume() reports its damage
     if (crashed(vetted) && room.user_limit_binds) {       // says nothing about the file
-      throw UsageError("reading " + output.string() + " back crashed (" + ending_words(vetted) +
-                       ") under " + room.limit_words(output.string()) +
-                       ": HDF5 fails so when memory runs out; raise the limit (or lift it) and "
+      throw UsageError("not enough memory to read " + output.string() + " back under " +
+                       room.limit_words(output.string()) + ": reading it crashed (" +
+                       ending_words(vetted) +
+                       "), as HDF5 does when memory runs out; raise the limit (or lift it) and "
                        "resume again; the file is as it was");
     }
     if (crashed(vetted)) {
