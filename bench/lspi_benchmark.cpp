@@ -339,6 +339,29 @@ void BM_CopyBasisGreedy(benchmark::State& state, kernels::GreedyInstructions ins
                      : "portable");
 }
 
+// The Khepera's shapes for the system benchmarks below: a dense copy table of
+// kReadings readings x p random kernel values, and kSamples samples (reading i to
+// i + 1, random actions and rewards), drawn from rng in that order.
+constexpr std::int32_t kReadings = 20200, kSamples = 20000;
+
+struct KheperaShapes {
+  kernels::SparseRowMatrix table;
+  kernels::SampleBatch samples;
+};
+
+KheperaShapes khepera_shapes(Eigen::Index p, kernels::RandomStream& rng) {
+  KheperaShapes shapes;
+  kernels::RowMatrixXd dense(kReadings, p);
+  for (Eigen::Index e = 0; e < dense.size(); ++e) dense.data()[e] = rng.uniform(-1, 1);
+  shapes.table = dense.sparseView();
+  shapes.table.makeCompressed();
+  for (std::int32_t i = 0; i < kSamples; ++i) {
+    shapes.samples.add(i, static_cast<std::int32_t>(rng.uniform_index(kActions)), rng.uniform(),
+                       i + 1, false);
+  }
+  return shapes;
+}
+
 // The limit of the dominant kernel (bench/README.md, "Limits"): one full BRM
 // rebuild (ActionBlockSystem::assemble, what every iteration of a Khepera PVF BRM
 // fit does) at the Khepera's shapes: 20,000 samples over 20,200 readings, 4
@@ -346,16 +369,10 @@ void BM_CopyBasisGreedy(benchmark::State& state, kernels::GreedyInstructions ins
 // 3 n p^2 flops (C blocks 2 n p^2 by GEMM, E blocks n p^2 by SYRK) per second.
 void BM_BrmRebuild(benchmark::State& state) {
   const auto p = static_cast<Eigen::Index>(state.range(0));
-  constexpr std::int32_t kReadings = 20200, kSamples = 20000;
   kernels::RandomStream rng(17, 0, 0);
-  kernels::RowMatrixXd dense(kReadings, p);
-  for (Eigen::Index e = 0; e < dense.size(); ++e) dense.data()[e] = rng.uniform(-1, 1);
-  const kernels::SparseRowMatrix table = dense.sparseView();
-  kernels::SampleBatch samples;
-  for (std::int32_t i = 0; i < kSamples; ++i) {
-    samples.add(i, static_cast<std::int32_t>(rng.uniform_index(kActions)), rng.uniform(), i + 1,
-                false);
-  }
+  const KheperaShapes shapes = khepera_shapes(p, rng);
+  const kernels::SparseRowMatrix& table = shapes.table;
+  const kernels::SampleBatch& samples = shapes.samples;
   std::vector<std::int32_t> policy(kReadings);
   for (std::int32_t& action : policy) {
     action = static_cast<std::int32_t>(rng.uniform_index(kActions));
@@ -381,24 +398,18 @@ BENCHMARK(BM_BrmRebuild)
 
 // A BRM rebuild after the first, as the Khepera's PVF fits make most iterations
 // (their policies oscillate), at BM_BrmRebuild's shapes with the bootstrap actions
-// of the Khepera (80 % one action: 0 in one policy, 1 in the other, so that the
-// two differ in most samples and every update rebuilds): method:direct sums every group
-// (ActionBlockSystem::assemble, what every rebuild did before), method:subtraction
-// is update's rebuild (the largest groups' blocks by subtraction from the sums over
-// the bootstrap actions); the two policies alternate so that every update
-// rebuilds. Counter GFlops: 3 n p^2 flops (the direct rebuild's) per second.
+// of the Khepera (80 % one action: 0 in one policy, 1 in the other; the two
+// alternate and differ in most samples, so every update rebuilds): method:direct
+// sums every group (ActionBlockSystem::assemble, what every rebuild did before),
+// method:subtraction is update's rebuild (the largest groups' blocks by
+// subtraction from the sums over the bootstrap actions). Counter GFlops: 3 n p^2
+// flops (the direct rebuild's) per second.
 void BM_BrmRebuildAfterTheFirst(benchmark::State& state, bool subtraction) {
   const auto p = static_cast<Eigen::Index>(state.range(0));
-  constexpr std::int32_t kReadings = 20200, kSamples = 20000;
   kernels::RandomStream rng(17, 0, 0);
-  kernels::RowMatrixXd dense(kReadings, p);
-  for (Eigen::Index e = 0; e < dense.size(); ++e) dense.data()[e] = rng.uniform(-1, 1);
-  const kernels::SparseRowMatrix table = dense.sparseView();
-  kernels::SampleBatch samples;
-  for (std::int32_t i = 0; i < kSamples; ++i) {
-    samples.add(i, static_cast<std::int32_t>(rng.uniform_index(kActions)), rng.uniform(), i + 1,
-                false);
-  }
+  const KheperaShapes shapes = khepera_shapes(p, rng);
+  const kernels::SparseRowMatrix& table = shapes.table;
+  const kernels::SampleBatch& samples = shapes.samples;
   std::vector<std::int32_t> policies[2];
   for (std::int32_t k = 0; k < 2; ++k) {
     policies[k].resize(kReadings);
@@ -435,17 +446,10 @@ void BM_BrmRebuildAfterTheFirst(benchmark::State& state, bool subtraction) {
 void BM_SolverPairFixedPart(benchmark::State& state) {
   const bool shared = state.range(0) != 0;
   constexpr Eigen::Index kP = 100;
-  constexpr std::int32_t kReadings = 20200, kSamples = 20000;
   kernels::RandomStream rng(19, 0, 0);
-  kernels::RowMatrixXd dense(kReadings, kP);
-  for (Eigen::Index e = 0; e < dense.size(); ++e) dense.data()[e] = rng.uniform(-1, 1);
-  kernels::SparseRowMatrix table = dense.sparseView();
-  table.makeCompressed();
-  kernels::SampleBatch samples;
-  for (std::int32_t i = 0; i < kSamples; ++i) {
-    samples.add(i, static_cast<std::int32_t>(rng.uniform_index(kActions)), rng.uniform(), i + 1,
-                false);
-  }
+  const KheperaShapes shapes = khepera_shapes(kP, rng);
+  const kernels::SparseRowMatrix& table = shapes.table;
+  const kernels::SampleBatch& samples = shapes.samples;
   for (auto _ : state) {
     const auto fixed =
         shared ? kernels::ActionBlockSystem::copy_basis_fixed(table, kActions, samples) : nullptr;

@@ -349,6 +349,13 @@ void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>&
         static_cast<std::int64_t>(sign) * static_cast<std::int64_t>(rows.size());
     if (cross_derived && !brm) continue;  // LSTD-Q: the group's C is all it adds
     const auto v = gather(rows, true, y, scratch.v);
+    // The indicator of v's non-zeros, formed once for the counts that need it.
+    bool v_support_formed = false;
+    const auto v_support = [&] {
+      if (!v_support_formed) nonzero_indicator(v, scratch.v_support);
+      v_support_formed = true;
+      return Eigen::Map<Eigen::MatrixXd>(scratch.v_support.data(), v.rows(), p_);
+    };
     if (!cross_derived) {
       const auto u = gather(rows, false, x, scratch.u);
       if (blocks.group_sizes[g] == 0) {
@@ -362,17 +369,12 @@ void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>&
       // integers in doubles).
       if (block_supports) {
         const auto u_support = nonzero_indicator(u, scratch.u_support);
-        const auto v_support = nonzero_indicator(v, scratch.v_support);
-        blocks.cross_support[g].noalias() += sign * (u_support.transpose() * v_support);
+        blocks.cross_support[g].noalias() += sign * (u_support.transpose() * v_support());
       }
     }
-    const bool v_support_formed = block_supports && !cross_derived;
     if (block_supports && brm && !next_derived) {
-      const auto v_support =
-          v_support_formed ? Eigen::Map<Eigen::MatrixXd>(scratch.v_support.data(), v.rows(), p_)
-                           : nonzero_indicator(v, scratch.v_support);
       blocks.next_support[static_cast<std::size_t>(y)].selfadjointView<Eigen::Lower>().rankUpdate(
-          v_support.transpose(), sign);
+          v_support().transpose(), sign);
     }
     if (!brm) continue;
     if (!next_derived) {
@@ -388,12 +390,8 @@ void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>&
       for (Eigen::Index r = 0; r < rewards.size(); ++r) nonzero_rewards += rewards(r) != 0.0;
       blocks.rhs_support.segment(y * p_, p_).array() += sign * nonzero_rewards;
     } else if (rhs_supports) {
-      const auto v_support =
-          block_supports && (v_support_formed || !next_derived)
-              ? Eigen::Map<Eigen::MatrixXd>(scratch.v_support.data(), v.rows(), p_)
-              : nonzero_indicator(v, scratch.v_support);
       blocks.rhs_support.segment(y * p_, p_).noalias() +=
-          sign * (v_support.transpose() * nonzero_indicator(rewards, scratch.reward_support));
+          sign * (v_support().transpose() * nonzero_indicator(rewards, scratch.reward_support));
     }
   }
   if (sign < 0 && block_supports) {
@@ -428,24 +426,20 @@ void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>&
 ActionBlockSystem::GroupTotals ActionBlockSystem::group_totals(const PolicyBlocks& blocks) const {
   const auto m = static_cast<std::size_t>(num_actions_);
   GroupTotals totals;
-  const auto sum_over_y = [&](const std::vector<Eigen::MatrixXd>& per_group, std::size_t x) {
-    Eigen::MatrixXd sum = per_group[x * m];
-    for (std::size_t y = 1; y < m; ++y) sum += per_group[x * m + y];
-    return sum;
-  };
-  const auto sum_all = [&](const std::vector<Eigen::MatrixXd>& per_action) {
-    Eigen::MatrixXd sum = per_action[0];
-    for (std::size_t y = 1; y < m; ++y) sum += per_action[y];
+  // The sum of the m blocks per_block[first .. first + m).
+  const auto sum_of_m = [&](const std::vector<Eigen::MatrixXd>& per_block, std::size_t first) {
+    Eigen::MatrixXd sum = per_block[first];
+    for (std::size_t y = 1; y < m; ++y) sum += per_block[first + y];
     return sum;
   };
   for (std::size_t x = 0; x < m; ++x) {
-    totals.cross.push_back(sum_over_y(blocks.cross, x));
+    totals.cross.push_back(sum_of_m(blocks.cross, x * m));
     if (!blocks.cross_support.empty()) {
-      totals.cross_support.push_back(sum_over_y(blocks.cross_support, x));
+      totals.cross_support.push_back(sum_of_m(blocks.cross_support, x * m));
     }
   }
-  if (!blocks.next.empty()) totals.next = sum_all(blocks.next);
-  if (!blocks.next_support.empty()) totals.next_support = sum_all(blocks.next_support);
+  if (!blocks.next.empty()) totals.next = sum_of_m(blocks.next, 0);
+  if (!blocks.next_support.empty()) totals.next_support = sum_of_m(blocks.next_support, 0);
   return totals;
 }
 
@@ -480,36 +474,33 @@ ActionBlockSystem::DerivedBlocks ActionBlockSystem::largest_groups(
 void ActionBlockSystem::subtract_from_totals(const DerivedBlocks& derived,
                                              PolicyBlocks& blocks) const {
   const auto m = static_cast<std::size_t>(num_actions_);
+  // per_block[first + star] = total - the other m - 1 blocks of per_block[first ..
+  // first + m).
+  const auto total_minus_others = [&](const Eigen::MatrixXd& total,
+                                      std::vector<Eigen::MatrixXd>& per_block, std::size_t first,
+                                      std::size_t star) -> Eigen::MatrixXd& {
+    Eigen::MatrixXd& block = per_block[first + star];
+    block = total;
+    for (std::size_t y = 0; y < m; ++y) {
+      if (y != star) block -= per_block[first + y];
+    }
+    return block;
+  };
   for (std::size_t x = 0; x < m; ++x) {
     if (derived.cross[x] < 0) continue;
-    const std::size_t g = x * m + static_cast<std::size_t>(derived.cross[x]);
-    Eigen::MatrixXd& cross = blocks.cross[g];
-    cross = totals_.cross[x];
-    for (std::size_t y = 0; y < m; ++y) {
-      if (x * m + y != g) cross -= blocks.cross[x * m + y];
-    }
+    const auto star = static_cast<std::size_t>(derived.cross[x]);
+    Eigen::MatrixXd& cross = total_minus_others(totals_.cross[x], blocks.cross, x * m, star);
     if (blocks.cross_support.empty()) continue;
-    Eigen::MatrixXd& support = blocks.cross_support[g];
-    support = totals_.cross_support[x];
-    for (std::size_t y = 0; y < m; ++y) {
-      if (x * m + y != g) support -= blocks.cross_support[x * m + y];
-    }
-    reset_unsupported(support, false, cross);
+    reset_unsupported(
+        total_minus_others(totals_.cross_support[x], blocks.cross_support, x * m, star), false,
+        cross);
   }
   if (derived.next < 0) return;
   const auto star = static_cast<std::size_t>(derived.next);
-  Eigen::MatrixXd& next = blocks.next[star];
-  next = totals_.next;
-  for (std::size_t y = 0; y < m; ++y) {
-    if (y != star) next -= blocks.next[y];
-  }
+  Eigen::MatrixXd& next = total_minus_others(totals_.next, blocks.next, 0, star);
   if (blocks.next_support.empty()) return;
-  Eigen::MatrixXd& support = blocks.next_support[star];
-  support = totals_.next_support;
-  for (std::size_t y = 0; y < m; ++y) {
-    if (y != star) support -= blocks.next_support[y];
-  }
-  reset_unsupported(support, true, next);
+  reset_unsupported(total_minus_others(totals_.next_support, blocks.next_support, 0, star), true,
+                    next);
 }
 
 void ActionBlockSystem::compose(const PolicyBlocks& blocks, Eigen::MatrixXd& a,

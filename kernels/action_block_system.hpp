@@ -28,12 +28,13 @@
 // entry of C, E or b that no sample of its group reaches with a non-zero term
 // (truncated kernels, unreachable centres, zero rewards) is exactly zero in
 // `assemble`, and a subtraction would leave rounding residue there instead (~1e-15
-// of the removed terms), which breaks the greedy step's exact ties (lspi.hpp). So `update` also
-// keeps, per entry, how many samples of its group contribute a non-zero term (exact integers, from
-// the same products on 0/1 indicators), and resets every entry whose count falls to zero. The
-// counts of C and E are kept only when some feature row has a zero (a table without any makes every
-// count its group's size: an emptied group, reset whole); they double the flops of an update and of
-// update's rebuilds.
+// of the removed terms), which breaks the greedy step's exact ties (lspi.hpp). So
+// `update` also keeps, per entry, how many samples of its group contribute a
+// non-zero term (exact integers, from the same products on 0/1 indicators), and
+// resets every entry whose count falls to zero. The counts of C and E are kept
+// only when some feature row has a zero (a table without any makes every count its
+// group's size: an emptied group, reset whole); they double the flops of an update
+// and of update's rebuilds.
 //
 // The copy basis read from its state kernels (CopyBasisTag, or shared rows that
 // are the same for every action) has bootstrap vectors that do not depend on the
