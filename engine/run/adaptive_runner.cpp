@@ -23,14 +23,15 @@ namespace {
 // The study's state from the file's complete runs, leaving out those still to
 // compute (`outstanding`: missing, or lacking fits of a grown study).
 AdaptiveState state_of_file(
-    const Hdf5File& file, const Study& study,
+    const Hdf5File& file, const Study& study, const AdaptiveScope& scope,
     const std::map<std::pair<std::int32_t, std::int32_t>, WorkUnit>& outstanding) {
   ResultsContents contents = read_contents(file);
   std::erase_if(contents.fits, [&](const FitRow& fit) {
     return outstanding.count({fit.configuration, static_cast<std::int32_t>(fit.run)}) > 0;
   });
   return adaptive_state(contents, *study.job().adaptive,
-                        static_cast<std::int32_t>(study.configurations.size()), study.job().runs);
+                        static_cast<std::int32_t>(study.configurations.size()), study.job().runs,
+                        scope);
 }
 
 std::string stage_text(const AdaptiveState& state) {
@@ -85,7 +86,8 @@ std::string adaptive_rule_words(const AdaptiveRule& rule, std::int32_t runs) {
          ")";
 }
 
-std::vector<std::string> adaptive_summary_lines(const AdaptiveState& state, const Study& study) {
+std::vector<std::string> adaptive_summary_lines(const AdaptiveState& state, const Study& study,
+                                                const RunOptions& options) {
   std::int64_t decided = 0, capped = 0, failed = 0;
   for (const AdaptiveCell& cell : state.cells) {
     if (cell.state == CellState::kCapped)
@@ -97,27 +99,37 @@ std::vector<std::string> adaptive_summary_lines(const AdaptiveState& state, cons
   }
   std::int64_t runs = 0;
   for (const std::int32_t wanted : state.runs_wanted) runs += wanted;
-  const std::int64_t fixed = static_cast<std::int64_t>(study.job().runs) *
-                             static_cast<std::int64_t>(study.configurations.size());
+  const std::size_t configurations = options.configuration_shard
+                                         ? options.configuration_shard->scope.configurations.size()
+                                         : study.configurations.size();
+  const std::int64_t fixed =
+      static_cast<std::int64_t>(study.job().runs) * static_cast<std::int64_t>(configurations);
   std::vector<std::string> lines;
-  lines.push_back("adaptive: " + std::string(state.done ? "done" : "not done") + " after " +
-                  std::to_string(state.looks) + " looks: " + std::to_string(decided) + " of " +
-                  std::to_string(state.cells.size()) + " cells decided, " +
-                  std::to_string(state.open_cells()) + " open, " + std::to_string(capped) +
-                  " capped at " + std::to_string(study.job().runs) + " runs" +
-                  (failed > 0 ? ", " + std::to_string(failed) + " with failed fits" : "") + "; " +
-                  std::to_string(runs) + " runs, against " + std::to_string(fixed) +
-                  " for every configuration at its most (ggk info shows the cells)");
+  lines.push_back(
+      "adaptive: " + std::string(state.done ? "done" : "not done") + " after " +
+      std::to_string(state.looks) + " looks: " + std::to_string(decided) + " of " +
+      std::to_string(state.cells.size()) +
+      (options.configuration_shard ? " cells of this shard decided, " : " cells decided, ") +
+      std::to_string(state.open_cells()) + " open, " + std::to_string(capped) + " capped at " +
+      std::to_string(study.job().runs) + " runs" +
+      (failed > 0 ? ", " + std::to_string(failed) + " with failed fits" : "") + "; " +
+      std::to_string(runs) + " runs, against " + std::to_string(fixed) +
+      (options.configuration_shard ? " for its configurations at their most"
+                                   : " for every configuration at its most") +
+      " (ggk info shows the cells)");
   return lines;
 }
 
-AdaptiveLooks::AdaptiveLooks(const Study& study, const std::vector<WorkUnit>& pending)
-    : study_(study) {
+AdaptiveLooks::AdaptiveLooks(const Study& study, const RunOptions& options,
+                             const std::vector<WorkUnit>& pending)
+    : study_(study),
+      scope_(options.configuration_shard ? options.configuration_shard->scope : AdaptiveScope{}) {
   for (const WorkUnit& unit : pending) outstanding_[{unit.configuration, unit.run}] = unit;
 }
 
 std::vector<WorkUnit> AdaptiveLooks::next_look(JobWriter& writer) {
-  state_ = writer.read([&](Hdf5File& file) { return state_of_file(file, study_, outstanding_); });
+  state_ = writer.read(
+      [&](Hdf5File& file) { return state_of_file(file, study_, scope_, outstanding_); });
   std::vector<WorkUnit> look;
   for (std::size_t c = 0; c < study_.configurations.size(); ++c) {
     for (std::int32_t run = 0; run < state_.runs_wanted[c]; ++run) {
@@ -148,8 +160,8 @@ void refuse_adaptive_shards(const Study& study, const RunOptions& options) {
   if (study.job().adaptive && options.runs) {
     throw UsageError(
         "an adaptive study chooses its runs by its rule ([adaptive]) from all of them: run it "
-        "whole, without --runs or --shard (a shard cannot see the other shards' runs its rule "
-        "decides on; under mpirun the ranks share one file)");
+        "without --runs (a range of runs cannot see the other runs its rule decides on), "
+        "whole or in shards by run configurations with --shard I/N");
   }
 }
 
@@ -164,7 +176,7 @@ RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
   if (!options.quiet) print_notes(opened.info);
   RunSummary summary;
   summary.output = opened.target.output();
-  AdaptiveLooks looks(study, opened.pending);
+  AdaptiveLooks looks(study, options, opened.pending);
 
   RunTally tally;
   JobWriter writer(study, options, std::move(opened), 0, StopSignals::Mode::kStopInHandler);
@@ -186,7 +198,7 @@ RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
   summary.fits = tally.fits.load();
   summary.failed_fits = tally.failed_fits.load();
   summary.warnings = tally.warnings.lines();
-  summary.adaptive = adaptive_summary_lines(looks.state(), study);
+  summary.adaptive = adaptive_summary_lines(looks.state(), study, options);
   summary.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return summary;

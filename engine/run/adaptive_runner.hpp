@@ -7,8 +7,9 @@
 // runs alone, so a study stopped at any point and resumed (--resume), or run
 // over any number of ranks, ends equal to one run whole in one process.
 //
-// Not shards (--runs, --shard): a shard cannot see the other shards' runs its
-// rule decides on; refused (exit 2).
+// Shards split it by run configurations (--shard I/N: adaptive_shards.hpp), each
+// shard's looks over its own; not by runs (--runs: refused, exit 2), as the rule
+// decides on every run of a configuration.
 
 #include <cstdint>
 #include <map>
@@ -37,7 +38,9 @@ std::string adaptive_rule_words(const AdaptiveRule& rule, std::int32_t runs);
 // Used by one thread (the one that commits or coordinates).
 class AdaptiveLooks {
  public:
-  AdaptiveLooks(const Study& study, const std::vector<WorkUnit>& pending);
+  // `options`: a shard's configurations (configuration_shard), or all.
+  AdaptiveLooks(const Study& study, const RunOptions& options,
+                const std::vector<WorkUnit>& pending);
 
   // The units of the next look: the outstanding ones among the runs the rule now
   // asks for, decided from the file's complete runs (read through `writer`,
@@ -56,19 +59,21 @@ class AdaptiveLooks {
  private:
   using RunKey = std::pair<std::int32_t, std::int32_t>;  // (configuration, run)
   const Study& study_;
+  AdaptiveScope scope_;
   std::map<RunKey, WorkUnit> outstanding_;
   AdaptiveState state_;
   std::int32_t computed_ = 0;
 };
 
-// An adaptive study runs whole: a UsageError for --runs or --shard.
+// An adaptive study's runs are its rule's: a UsageError for --runs.
 void refuse_adaptive_shards(const Study& study, const RunOptions& options);
 
 // run_study for a study whose job has an [adaptive] table.
 RunSummary run_adaptive_study(const Study& study, const RunOptions& options);
 
-// The closing lines of an adaptive study: looks, cells decided, open, capped,
-// and the runs spent against the fixed design's.
-std::vector<std::string> adaptive_summary_lines(const AdaptiveState& state, const Study& study);
+// The closing lines of an adaptive study (or shard: `options`): looks, cells
+// decided, open, capped, and the runs spent against the fixed design's.
+std::vector<std::string> adaptive_summary_lines(const AdaptiveState& state, const Study& study,
+                                                const RunOptions& options);
 
 }  // namespace ggk::engine

@@ -20,6 +20,7 @@
 #include "engine/job/study.hpp"
 #include "engine/job/usage_error.hpp"
 #include "engine/run/fit_warnings.hpp"
+#include "engine/store/adaptive_state.hpp"
 #include "engine/tasks/run_record.hpp"
 
 namespace ggk::engine {
@@ -33,13 +34,23 @@ struct RunRange {
   std::int32_t last = 0;  // exclusive
 };
 
+// An adaptive study's shard (`--shard I/N`, adaptive_shards.hpp): shard I of N
+// over the run configurations, which the rule's cells never link across shards.
+struct ConfigurationShard {
+  std::int32_t index = 0;
+  std::int32_t count = 1;
+  AdaptiveScope scope;  // its configurations and the whole study's cells
+};
+
 struct RunOptions {
-  std::filesystem::path output;      // empty: the job's [output] file
-  std::int32_t threads = 0;          // 0: all cores
-  bool resume = false;               // continue an existing results file of this job
-  bool overwrite = false;            // replace an existing results file
-  bool quiet = false;                // no progress output
-  std::optional<RunRange> runs;      // only these runs (a shard); checked against job.runs
+  std::filesystem::path output;  // empty: the job's [output] file
+  std::int32_t threads = 0;      // 0: all cores
+  bool resume = false;           // continue an existing results file of this job
+  bool overwrite = false;        // replace an existing results file
+  bool quiet = false;            // no progress output
+  std::optional<RunRange> runs;  // only these runs (a shard); checked against job.runs
+  // only these run configurations (an adaptive study's shard)
+  std::optional<ConfigurationShard> configuration_shard;
   bool ignore_memory_check = false;  // run a job whose estimate exceeds the memory available
   // The command line as typed (argv, the program as invoked first): what the
   // resume commands ggk prints repeat (resume_command.hpp). Empty: built from

@@ -277,7 +277,7 @@ class Coordinator {
         size_(size),
         skipped_(opened.skipped),
         looks_(study.job().adaptive
-                   ? std::optional<AdaptiveLooks>(std::in_place, study, opened.pending)
+                   ? std::optional<AdaptiveLooks>(std::in_place, study, options.run, opened.pending)
                    : std::nullopt),
         pending_(looks_ ? std::deque<WorkUnit>()
                         : std::deque<WorkUnit>(opened.pending.begin(), opened.pending.end())),
@@ -740,7 +740,7 @@ int Coordinator::run(RunSummary& summary) {
       looks_ ? static_cast<std::int32_t>(looks_->runs_used() - total_) : skipped_;
   summary.fits = static_cast<std::int64_t>(total_) * fits_per_run;
   summary.failed_fits = failed_fits_.load();
-  if (looks_) summary.adaptive = adaptive_summary_lines(looks_->state(), study_);
+  if (looks_) summary.adaptive = adaptive_summary_lines(looks_->state(), study_, options_.run);
   summary.seconds = std::chrono::duration<double>(Clock::now() - started).count();
   return 0;
 }

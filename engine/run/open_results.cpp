@@ -66,6 +66,16 @@ std::optional<RunsSelected> selection(const JobSpec& job, const std::optional<Ru
   return RunsSelected{runs->first, runs->last};
 }
 
+// Which run configurations an adaptive study's shard file is for, and the
+// study's cells; none for a whole study's file.
+std::optional<ConfigurationsSelected> configurations_selected(const RunOptions& options) {
+  if (!options.configuration_shard) return std::nullopt;
+  const AdaptiveScope& scope = options.configuration_shard->scope;
+  return ConfigurationsSelected{
+      std::vector<std::int64_t>(scope.configurations.begin(), scope.configurations.end()),
+      scope.cells.value_or(0)};
+}
+
 // HDF5's flush writes the superblock, with the file's new end, before it
 // extends the file; when the extension fails (a full disk) the file is left
 // shorter than its superblock says and no longer opens ("truncated file: ...
@@ -162,6 +172,7 @@ Hdf5File resume(const Study& study, const RunOptions& options, const fs::path& o
   }
   // A resumed file is for the selection it was last run with.
   write_runs_selected(file, selection(study.job(), options.runs));
+  write_configurations_selected(file, configurations_selected(options));
   file.flush();
   return file;
 }
@@ -187,6 +198,7 @@ ResultsHeader new_header(const Study& study, const RunOptions& options) {
   }
   header.job_resolved = resolved_of(study).text();
   header.runs_selected = selection(job, options.runs);
+  header.configurations_selected = configurations_selected(options);
   return header;
 }
 
@@ -276,7 +288,14 @@ void add_pending_units(const Study& study, const RunOptions& options,
   const std::int32_t first = options.runs ? options.runs->first : 0;
   const std::int32_t last = options.runs ? options.runs->last : study.job().runs;
   std::int64_t extended = 0, new_fits = 0;
+  std::vector<bool> selected(study.configurations.size(), !options.configuration_shard);
+  if (options.configuration_shard) {
+    for (const std::int32_t c : options.configuration_shard->scope.configurations) {
+      selected.at(static_cast<std::size_t>(c)) = true;
+    }
+  }
   for (std::size_t c = 0; c < study.configurations.size(); ++c) {
+    if (!selected[c]) continue;  // another shard's
     const RunConfiguration& configuration = study.configurations[c];
     const std::vector<SweepPoint> points = expand_points(configuration);
     for (std::int32_t run = first; run < last; ++run) {

@@ -28,6 +28,11 @@ std::vector<std::string> invocation_words(const JobSpec& job, const RunOptions& 
     words.push_back("--runs");
     words.push_back(std::to_string(options.runs->first) + ":" + std::to_string(options.runs->last));
   }
+  if (options.configuration_shard) {
+    words.push_back("--shard");
+    words.push_back(std::to_string(options.configuration_shard->index) + "/" +
+                    std::to_string(options.configuration_shard->count));
+  }
   words.push_back("-o");
   words.push_back(output.string());
   if (options.overwrite) words.push_back("--overwrite");

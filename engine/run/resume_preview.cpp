@@ -62,7 +62,14 @@ ResumePreview preview_resume(const Hdf5File& file, const Study& study, const fs:
       locations[group.configuration] = study.job().task + "/" + group.name;
     }
   }
+  // An adaptive study's shard resumes its own configurations alone.
+  const std::optional<ConfigurationsSelected> selected =
+      read_results_header(file).configurations_selected;
   for (std::size_t c = 0; c < study.configurations.size(); ++c) {
+    if (selected && std::count(selected->configurations.begin(), selected->configurations.end(),
+                               static_cast<std::int64_t>(c)) == 0) {
+      continue;
+    }
     const RunConfiguration& configuration = study.configurations[c];
     const std::vector<SweepPoint> points = expand_points(configuration);
     const std::int32_t runs = configuration.job.runs;

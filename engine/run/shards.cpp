@@ -9,6 +9,7 @@
 
 #include "engine/job/job_file.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/run/adaptive_shards.hpp"
 #include "engine/tasks/task_list.hpp"
 
 namespace ggk::engine {
@@ -132,7 +133,12 @@ void apply_shard_option(std::string_view text, const fs::path& job_path, JobLoad
   const Study study = load_study(job_path, task_tables(), load);
   const JobSpec& job = study.job();
   const auto environment = [](const char* name) -> const char* { return std::getenv(name); };
-  select_shard(parse_shard(text, environment), job, options);
+  const Shard shard = parse_shard(text, environment);
+  if (job.adaptive) {
+    select_adaptive_shard(shard, study, options);  // by configurations
+  } else {
+    select_shard(shard, job, options);
+  }
 }
 
 std::vector<fs::path> shards_of_job(const fs::path& job_path, JobLoadOptions load,

@@ -51,7 +51,8 @@ std::filesystem::path shard_output(const std::filesystem::path& output, const Sh
 void select_shard(const Shard& shard, const JobSpec& job, RunOptions& options);
 
 // `ggk run JOB --shard TEXT [--set ...] [-o OUT]`: reads the job (with the
-// overrides; its output unchecked) for its runs and output, then select_shard;
+// overrides; its output unchecked) for its runs and output, then select_shard
+// (an adaptive study's: select_adaptive_shard, by run configurations);
 // "slurm" reads the process's environment.
 void apply_shard_option(std::string_view text, const std::filesystem::path& job_path,
                         JobLoadOptions load, RunOptions& options);

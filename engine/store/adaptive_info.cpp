@@ -49,13 +49,17 @@ std::string adaptive_status_line(const AdaptiveState& state, const AdaptiveRule&
     runs += (runs.empty() ? "" : ", ") + std::to_string(wanted);
     total += wanted;
   }
+  const auto configurations = static_cast<std::int64_t>(state.runs_wanted.size());
   line += "; runs per configuration " + runs + " (" + std::to_string(total) + " of at most " +
-          std::to_string(static_cast<std::int64_t>(max_runs) *
-                         static_cast<std::int64_t>(state.runs_wanted.size())) +
+          std::to_string(static_cast<std::int64_t>(max_runs) * state.configurations_judged) +
+          (state.configurations_judged < configurations
+               ? ": a shard of " + std::to_string(state.configurations_judged) + " of the " +
+                     std::to_string(configurations) + " configurations"
+               : std::string()) +
           "); each cell at level " + number(state.cell_level, false) + " (" +
           (rule.correction == AdaptiveCorrection::kBonferroni
-               ? "Bonferroni over " + std::to_string(state.cells.size()) + " cells of level " +
-                     number(rule.level, false)
+               ? "Bonferroni over the study's " + std::to_string(state.level_cells) +
+                     " cells of level " + number(rule.level, false)
                : std::string("no correction over the cells")) +
           ")";
   return line;

@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -222,10 +223,25 @@ AdaptiveCell judge_cell(const ResultsContents& contents, const AdaptiveRule& rul
 }  // namespace
 
 AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule& rule,
-                             std::int32_t configurations, std::int32_t max_runs) {
+                             std::int32_t configurations, std::int32_t max_runs,
+                             const AdaptiveScope& scope) {
   AdaptiveState state;
-  state.runs_wanted.assign(static_cast<std::size_t>(configurations),
-                           std::min(rule.batch, max_runs));
+  // The configurations this process judges (a shard's, or all).
+  std::vector<bool> judged(static_cast<std::size_t>(configurations), scope.configurations.empty());
+  for (const std::int32_t c : scope.configurations) {
+    if (c < 0 || c >= configurations) {
+      throw UsageError("an adaptive study's shard names run configuration " + std::to_string(c) +
+                       " (configurations_selected), which its study of " +
+                       std::to_string(configurations) + " configurations lacks");
+    }
+    judged[static_cast<std::size_t>(c)] = true;
+  }
+  state.runs_wanted.assign(static_cast<std::size_t>(configurations), 0);
+  for (std::size_t c = 0; c < judged.size(); ++c) {
+    if (judged[c]) state.runs_wanted[c] = std::min(rule.batch, max_runs);
+  }
+  state.configurations_judged = std::count(judged.begin(), judged.end(), true);
+  state.level_cells = scope.cells.value_or(0);
   state.key_names.resize(rule.comparisons.size());
   if (contents.fits.empty()) return state;  // look 1 has no runs yet
 
@@ -238,9 +254,14 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
     points.push_back(pairings(contents, rule.comparisons[c], state.key_names[c]));
     cell_count += points.back().size() * compared.size();
   }
+  if (scope.cells && static_cast<std::int64_t>(cell_count) > *scope.cells) {
+    throw std::logic_error("adaptive_state: the file holds " + std::to_string(cell_count) +
+                           " cells, more than the study's " + std::to_string(*scope.cells));
+  }
+  state.level_cells = scope.cells ? *scope.cells : static_cast<std::int64_t>(cell_count);
   const double alpha = 1.0 - rule.level;
-  state.cell_level = rule.correction == AdaptiveCorrection::kBonferroni && cell_count > 0
-                         ? 1.0 - alpha / static_cast<double>(cell_count)
+  state.cell_level = rule.correction == AdaptiveCorrection::kBonferroni && state.level_cells > 0
+                         ? 1.0 - alpha / static_cast<double>(state.level_cells)
                          : rule.level;
 
   // The runs each configuration holds: 0 .. have[c] - 1 without a gap.
@@ -287,7 +308,10 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
   for (;;) {
     bool complete = true;
     for (std::int32_t c = 0; c < configurations; ++c) {
-      if (!holds(c, state.runs_wanted[static_cast<std::size_t>(c)])) complete = false;
+      if (judged[static_cast<std::size_t>(c)] &&
+          !holds(c, state.runs_wanted[static_cast<std::size_t>(c)])) {
+        complete = false;
+      }
     }
     judge(complete);
     if (!complete) return state;  // the look's runs are being computed
@@ -308,6 +332,46 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
     state.runs_wanted = std::move(next);
     ++state.looks;
   }
+}
+
+AdaptiveScope adaptive_scope_of(const ResultsHeader& header) {
+  AdaptiveScope scope;
+  if (!header.configurations_selected) return scope;
+  for (const std::int64_t c : header.configurations_selected->configurations) {
+    scope.configurations.push_back(static_cast<std::int32_t>(c));
+  }
+  scope.cells = header.configurations_selected->cells;
+  return scope;
+}
+
+AdaptivePlan adaptive_plan(const ResultsContents& planned, const AdaptiveRule& rule,
+                           std::int32_t configurations) {
+  // Union-find over the configurations: a pairing links its two sides'.
+  std::vector<std::int32_t> parent(static_cast<std::size_t>(configurations));
+  for (std::int32_t c = 0; c < configurations; ++c) parent[static_cast<std::size_t>(c)] = c;
+  const auto root = [&](std::int32_t c) {
+    while (parent[static_cast<std::size_t>(c)] != c) c = parent[static_cast<std::size_t>(c)];
+    return c;
+  };
+  AdaptivePlan plan;
+  for (const AdaptiveComparison& comparison : rule.comparisons) {
+    std::vector<std::string> key_names;
+    for (const Pairing& pairing : pairings(planned, comparison, key_names)) {
+      plan.cells += static_cast<std::int64_t>(rule.metrics.size());
+      if (pairing.configuration_a < 0 || pairing.configuration_b < 0) continue;
+      const std::int32_t a = root(pairing.configuration_a);
+      const std::int32_t b = root(pairing.configuration_b);
+      parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);  // the first stays root
+    }
+  }
+  plan.group_of.assign(static_cast<std::size_t>(configurations), -1);
+  std::vector<std::int32_t> group_of_root(static_cast<std::size_t>(configurations), -1);
+  for (std::int32_t c = 0; c < configurations; ++c) {
+    std::int32_t& group = group_of_root[static_cast<std::size_t>(root(c))];
+    if (group < 0) group = plan.groups++;
+    plan.group_of[static_cast<std::size_t>(c)] = group;
+  }
+  return plan;
 }
 
 }  // namespace ggk::engine

@@ -66,9 +66,12 @@ struct AdaptiveState {
   std::vector<std::vector<std::string>> key_names;  // per comparison: the other axes' names
   // Per configuration: the runs the current look gives it (runs 0 .. n-1).
   std::vector<std::int32_t> runs_wanted;
-  std::int32_t looks = 1;   // the looks taken, the current one included
-  bool done = false;        // every configuration has its runs and no cell asks for more
-  double cell_level = 0.0;  // each cell's level (after the correction)
+  std::int32_t looks = 1;        // the looks taken, the current one included
+  bool done = false;             // every configuration has its runs and no cell asks for more
+  double cell_level = 0.0;       // each cell's level (after the correction)
+  std::int64_t level_cells = 0;  // the cells the correction divides over: the study's
+  // The configurations judged: a shard's (AdaptiveScope), else every one.
+  std::int64_t configurations_judged = 0;
   std::int64_t open_cells() const;
 };
 
@@ -77,11 +80,41 @@ struct AdaptiveState {
 std::optional<MetricRange> metric_range(const AdaptiveRule& rule, std::string_view metric,
                                         MetricKind kind);
 
+// What one process of an adaptive study judges: a shard's run configurations
+// (run/adaptive_shards.hpp), a set the rule's cells never link to others, and
+// the whole study's cell count, which sets each cell's level. Empty / none: the
+// whole study, its cells counted in the file.
+struct AdaptiveScope {
+  std::vector<std::int32_t> configurations;  // ascending
+  std::optional<std::int64_t> cells;
+};
+
+// The scope of a file: an adaptive study's shard's (its header's
+// configurations_selected), or the whole study.
+AdaptiveScope adaptive_scope_of(const ResultsHeader& header);
+
 // The state of the study with `configurations` run configurations, at most
 // `max_runs` runs each, whose file holds `contents` (a metric's kind: its
 // declaration, contents.metric_specs). Throws UsageError when a compared metric is no column of
 // the file, has no range, or a value lies outside its range (naming the run).
+// Under a scope the configurations outside it want no runs and its looks wait
+// for none of theirs; each cell's level is that of scope.cells cells. A cell
+// group of a closed set of configurations (adaptive_plan) goes through the same
+// looks alone as in the whole study, so a shard of such sets computes the runs
+// the whole study gives them.
 AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule& rule,
-                             std::int32_t configurations, std::int32_t max_runs);
+                             std::int32_t configurations, std::int32_t max_runs,
+                             const AdaptiveScope& scope = {});
+
+// The cells of a study and the run configurations they link, from `planned`:
+// one fit row per configuration and sweep point, its axes (axis_names, key) as
+// the file will hold them, no values (run/adaptive_shards.hpp builds it).
+struct AdaptivePlan {
+  std::int64_t cells = 0;              // pairings x the rule's metrics
+  std::vector<std::int32_t> group_of;  // per configuration: its group, numbered by first member
+  std::int32_t groups = 0;
+};
+AdaptivePlan adaptive_plan(const ResultsContents& planned, const AdaptiveRule& rule,
+                           std::int32_t configurations);
 
 }  // namespace ggk::engine

@@ -504,7 +504,8 @@ void print_info(const std::filesystem::path& path, std::ostream& out, const Info
   std::optional<AdaptiveState> state;
   if (rule) {
     state = adaptive_state(contents, *rule, static_cast<std::int32_t>(contents.configurations),
-                           static_cast<std::int32_t>(contents.header.runs));
+                           static_cast<std::int32_t>(contents.header.runs),
+                           adaptive_scope_of(contents.header));
   }
   if (options.adaptive) {
     const auto rows = adaptive_cell_rows(*state, *rule, options.format == InfoFormat::kCsv);

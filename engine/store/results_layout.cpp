@@ -9,8 +9,14 @@ namespace ggk::engine {
 namespace {
 
 constexpr std::string_view kInputPrefix = "input:";
-constexpr std::array<std::string_view, 6> kProvenance = {"job_file", "git",           "ggk_version",
-                                                         "blas",     "runs_selected", "rules"};
+constexpr std::array<std::string_view, 8> kProvenance = {"job_file",
+                                                         "git",
+                                                         "ggk_version",
+                                                         "blas",
+                                                         "runs_selected",
+                                                         "rules",
+                                                         "configurations_selected",
+                                                         "adaptive_cells"};
 
 // Reads the root attribute `name` with `read`; a missing one is an error when
 // `required`, else `fallback`. Every failure names the file and the attribute.
@@ -76,6 +82,7 @@ void write_results_header(Hdf5File& file, const ResultsHeader& header) {
   file.write_int64_attribute("/", "layout", header.layout);
   file.write_int64_attribute("/", "rules", header.rules);
   write_runs_selected(file, header.runs_selected);
+  write_configurations_selected(file, header.configurations_selected);
 }
 
 void rewrite_job_attributes(Hdf5File& file, const ResultsHeader& header) {
@@ -117,6 +124,14 @@ ResultsHeader read_results_header(const Hdf5File& file) {
         }
         return RunsSelected{range[0], range[1]};
       });
+  if (file.has_attribute("/", "configurations_selected")) {
+    ConfigurationsSelected selected;
+    selected.configurations = root_attribute<std::vector<std::int64_t>>(
+        file, "configurations_selected", true, {},
+        [&](std::string_view name) { return file.read_int64_array_attribute("/", name); });
+    selected.cells = int64_at(file, "adaptive_cells", true, 0);
+    header.configurations_selected = std::move(selected);
+  }
   for (const std::string& name : file.attribute_names("/")) {  // sorted by name
     if (name.starts_with(kInputPrefix)) {
       header.inputs.push_back({name.substr(kInputPrefix.size()), string_at(file, name, true)});
@@ -128,6 +143,16 @@ ResultsHeader read_results_header(const Hdf5File& file) {
 void write_runs_selected(Hdf5File& file, const std::optional<RunsSelected>& runs_selected) {
   if (file.has_attribute("/", "runs_selected")) file.remove_attribute("/", "runs_selected");
   if (runs_selected) file.write_int64_array_attribute("/", "runs_selected", *runs_selected);
+}
+
+void write_configurations_selected(Hdf5File& file,
+                                   const std::optional<ConfigurationsSelected>& selected) {
+  for (const char* name : {"configurations_selected", "adaptive_cells"}) {
+    if (file.has_attribute("/", name)) file.remove_attribute("/", name);
+  }
+  if (!selected) return;
+  file.write_int64_array_attribute("/", "configurations_selected", selected->configurations);
+  file.write_int64_attribute("/", "adaptive_cells", selected->cells);
 }
 
 std::string layout_mismatch(std::int64_t layout) {

@@ -22,6 +22,10 @@
 //   layout         int64   kLayoutVersion (absent in layout-1 files)
 //   rules          int64   kResultsRules (results_rules.hpp; absent in older files)
 //   runs_selected  int64[2] [A, B) of a shard written with --runs A:B (only then)
+//   configurations_selected  int64[k]  the run configurations of an adaptive
+//                  study's shard (--shard I/N: run/adaptive_shards.hpp; only then)
+//   adaptive_cells int64   the whole study's cells, whose count sets each cell's
+//                  level, on such a shard (only then)
 //
 // Call these on the thread that owns the file (StoreWriter's, in the engine).
 
@@ -54,6 +58,15 @@ struct RecordedInput {
 // Runs [first, last) of a job: the selection a shard file was written for.
 using RunsSelected = std::array<std::int64_t, 2>;
 
+// The run configurations an adaptive study's shard was written for (their
+// indices, ascending) and the cells of the whole study, which its shards judge
+// at the whole study's level (store/adaptive_state.hpp).
+struct ConfigurationsSelected {
+  std::vector<std::int64_t> configurations;
+  std::int64_t cells = 0;
+  bool operator==(const ConfigurationsSelected&) const = default;
+};
+
 // The root attributes of a results file (the table above), as values.
 struct ResultsHeader {
   std::string job;
@@ -73,6 +86,8 @@ struct ResultsHeader {
   // its `git` says (rules_of_unmarked_file).
   std::int64_t rules = kResultsRules;
   std::optional<RunsSelected> runs_selected;  // none: the whole job's file
+  // none: not an adaptive study's shard
+  std::optional<ConfigurationsSelected> configurations_selected;
   bool operator==(const ResultsHeader&) const = default;
 };
 
@@ -101,6 +116,10 @@ ResultsHeader read_results_header(const Hdf5File& file);
 // Rewrites runs_selected alone (a resumed file is for the selection it was last
 // run with); none removes it.
 void write_runs_selected(Hdf5File& file, const std::optional<RunsSelected>& runs_selected);
+// The same for an adaptive study's shard: configurations_selected and
+// adaptive_cells, both or neither.
+void write_configurations_selected(Hdf5File& file,
+                                   const std::optional<ConfigurationsSelected>& selected);
 
 // Why runs of this ggk cannot be added to a file of results layout `layout`
 // ("it has results layout 1 (written by an older ggk ...)"), or an empty string

@@ -13,9 +13,12 @@
 
 #include "engine/hdf5/hdf5_file.hpp"
 #include "engine/job/job_compare.hpp"
+#include "engine/job/job_error.hpp"
 #include "engine/job/shell_words.hpp"
 #include "engine/job/usage_error.hpp"
+#include "engine/store/adaptive_state.hpp"
 #include "engine/store/output_lock.hpp"
+#include "engine/store/results_contents.hpp"
 #include "engine/store/results_layout.hpp"
 #include "engine/store/results_verify.hpp"
 #include "engine/store/run_store.hpp"
@@ -162,6 +165,19 @@ void check_one_job(const std::vector<Shard>& shards, const MergeOptions& options
   }
 }
 
+// An adaptive study's shard holds runs of its own configurations alone
+// (configurations_selected): one of another's is damage, or another file.
+void refuse_foreign_configuration(const Shard& shard, std::size_t configuration,
+                                  const std::string& location) {
+  if (!shard.header.configurations_selected) return;
+  const std::vector<std::int64_t>& own = shard.header.configurations_selected->configurations;
+  if (std::find(own.begin(), own.end(), static_cast<std::int64_t>(configuration)) == own.end()) {
+    throw UsageError(shard.path.string() + " holds runs of " + location +
+                     ", a run configuration of another shard of its adaptive study (its own: "
+                     "configurations_selected): only the files its shards wrote merge");
+  }
+}
+
 // Which shard holds each complete run of each location (listed from the files:
 // the cost follows what they hold, not the job's run count). A run complete in
 // two shards is a UsageError.
@@ -172,6 +188,7 @@ std::vector<std::map<std::int32_t, std::size_t>> owners_of_runs(
   for (std::size_t l = 0; l < locations.size(); ++l) {
     for (std::size_t s = 0; s < shards.size(); ++s) {
       for (const std::int32_t run : complete_runs(shards[s].file, locations[l], runs)) {
+        refuse_foreign_configuration(shards[s], l, locations[l]);
         const auto [held, added] = owners[l].emplace(run, s);
         if (!added) {
           throw UsageError("run " + std::to_string(run) +
@@ -222,6 +239,7 @@ void write_merged_file(const std::filesystem::path& temporary, const std::vector
   }();
   ResultsHeader header = first;
   header.runs_selected.reset();  // the merged file is the whole job's
+  header.configurations_selected.reset();
   write_results_header(merged, header);
   merged.create_group("/" + task);
   for (std::size_t l = 0; l < locations.size(); ++l) {
@@ -241,6 +259,78 @@ void write_merged_file(const std::filesystem::path& temporary, const std::vector
   }
   write_summary(merged, task, runs);
   merged.flush();
+}
+
+// The [adaptive] rule of the shards' job, if it has one.
+std::optional<AdaptiveRule> adaptive_rule(const ResultsHeader& header,
+                                          const std::filesystem::path& path) {
+  try {
+    return adaptive_rule_of_text(header.job, path.string() + " (its job)",
+                                 static_cast<std::int32_t>(header.runs));
+  } catch (const JobError& e) {
+    throw UsageError(e.what());
+  }
+}
+
+// The run configurations an adaptive study's merged contents lack runs of: the
+// rule asks for more than they hold (as "config_001, config_004").
+std::string configurations_lacking_runs(const ResultsContents& contents, const AdaptiveState& state,
+                                        const std::vector<std::string>& locations) {
+  std::vector<std::int64_t> held(state.runs_wanted.size(), 0);
+  for (const FitRow& fit : contents.fits) {
+    auto& count = held[static_cast<std::size_t>(fit.configuration)];
+    count = std::max(count, fit.run + 1);
+  }
+  std::string text;
+  for (std::size_t c = 0; c < state.runs_wanted.size(); ++c) {
+    if (held[c] < state.runs_wanted[c]) text += (text.empty() ? "" : ", ") + locations[c];
+  }
+  return text;
+}
+
+// merge_results for an adaptive study's shards: their runs, different in number
+// per configuration, merged whole; the merged file is refused unless the rule,
+// replayed on it, is done (or allow_partial).
+void merge_adaptive_shards(const std::filesystem::path& output, const std::vector<Shard>& shards,
+                           const std::vector<std::string>& locations,
+                           const std::vector<std::map<std::int32_t, std::size_t>>& owners,
+                           const AdaptiveRule& rule, const MergeOptions& options,
+                           std::ostream& log) {
+  const ResultsHeader& first = shards.front().header;
+  verify_runs_to_merge(shards, locations, owners, first.task);
+  std::error_code error;
+  const std::filesystem::path temporary = merging_path(output, ::getpid());
+  std::string lacking;
+  try {
+    write_merged_file(temporary, shards, locations, owners);
+    // The merged runs replayed under the rule: done, or which configurations
+    // lack runs it asks for (a shard not finished, or not merged).
+    const ResultsContents contents = read_contents(Hdf5File::open_read_only(temporary));
+    const AdaptiveState state =
+        adaptive_state(contents, rule, static_cast<std::int32_t>(locations.size()),
+                       static_cast<std::int32_t>(first.runs));
+    if (!state.done) lacking = configurations_lacking_runs(contents, state, locations);
+    if (!lacking.empty() && !options.allow_partial) {
+      throw UsageError(
+          "the adaptive study is not done: its rule asks for runs of " + lacking +
+          " that no shard holds (a shard not finished or not given): resume that shard with the "
+          "command it was run with and --resume, then merge; or pass --allow-partial to merge "
+          "what exists and then finish the study with `" +
+          finish_command(first, options.program, output) + "`");
+    }
+  } catch (...) {
+    std::filesystem::remove(temporary, error);
+    throw;
+  }
+  std::filesystem::rename(temporary, output);
+  std::size_t merged_runs = 0;
+  for (const auto& owned : owners) merged_runs += owned.size();
+  log << "ggk: merged " << merged_runs << " runs of an adaptive study from " << shards.size()
+      << " shards into " << output.string() << "\n";
+  if (!lacking.empty()) {
+    log << "ggk: the study is not done: its rule asks for runs of " << lacking
+        << "; finish it with `" << finish_command(first, options.program, output) << "`\n";
+  }
 }
 
 }  // namespace
@@ -283,6 +373,10 @@ void merge_results(const std::filesystem::path& output,
   // Which shard holds each complete run of each location.
   const std::vector<std::map<std::int32_t, std::size_t>> owners =
       owners_of_runs(shards, locations, task, runs);
+  if (const std::optional<AdaptiveRule> rule = adaptive_rule(first, shards.front().path)) {
+    merge_adaptive_shards(output, shards, locations, owners, *rule, options, log);
+    return;
+  }
   // The runs complete in every location (a study's shards hold the same runs of
   // each configuration); a run missing anywhere is missing.
   std::map<std::int32_t, std::size_t> owner = owners.front();

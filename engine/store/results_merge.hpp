@@ -10,6 +10,13 @@
 // groups are copied whole (HDF5 object copy), the summary is rebuilt in run
 // order. OUT is written under a temporary name beside it and renamed into place
 // when complete, so a failed merge leaves no OUT and an existing OUT is refused.
+//
+// An adaptive study's shards (`--shard I/N` by run configurations:
+// run/adaptive_shards.hpp) hold different numbers of runs per configuration:
+// every complete run is merged, a run of a configuration not the shard's own is
+// refused, and the rule is replayed on the merged file: one it is not done with
+// is refused naming the configurations that lack runs (allow_partial: merged,
+// with the `ggk run JOB --resume -o OUT` that finishes it).
 
 #include <sys/types.h>
 

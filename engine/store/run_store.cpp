@@ -187,13 +187,8 @@ TableValue as_column_type(TableValue value, ColumnType type) {
 }
 
 TableRow summary_row(const RunRecord& record, const FitRecord& fit) {
-  TableRow row = {record.run};
-  for (TableValue value :
-       TableRow{fit.point.index, std::string(kernel_type_name(fit.point.basis)), fit.point.kernels,
-                fit.point.sigma, std::string(solver_name(fit.point.solver)), fit.point.lambda}) {
-    row.push_back(std::move(value));
-  }
-  for (const AxisAssignment& value : fit.point.study_values) row.push_back(study_cell(value.value));
+  TableRow row = {record.run, fit.point.index};
+  for (TableValue& value : point_axis_cells(fit.point)) row.push_back(std::move(value));
   row.emplace_back(fit.status);
   for (const auto& [name, value] : fit.metrics) {
     if (is_integer_metric(record, name)) {
@@ -406,6 +401,19 @@ std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_
   }
   columns.push_back({"fit_seconds", ColumnType::kFloat64, 0});
   return columns;
+}
+
+TableRow point_axis_cells(const SweepPoint& point) {
+  TableRow row = {std::string(kernel_type_name(point.basis)), point.kernels, point.sigma,
+                  std::string(solver_name(point.solver)), point.lambda};
+  for (const AxisAssignment& value : point.study_values) row.push_back(study_cell(value.value));
+  return row;
+}
+
+std::vector<std::string> point_axis_names(const SweepPoint& point) {
+  std::vector<std::string> names = {"basis", "kernels", "sigma", "solver", "lambda"};
+  for (const AxisAssignment& value : point.study_values) names.push_back(value.key);
+  return names;
 }
 
 std::string runs_location(const JobSpec& job) {

@@ -54,6 +54,10 @@ std::vector<TableColumn> summary_columns(const std::vector<std::string>& metric_
                                          const std::vector<AxisAssignment>& study_values,
                                          const std::vector<std::string>& integer_metrics = {});
 inline constexpr const char* kStudyAxesAttribute = "study_axes";
+// A fit's axis values as its fit_metrics row holds them (basis, kernels, sigma,
+// solver, lambda, then the study values), and those columns' names.
+TableRow point_axis_cells(const SweepPoint& point);
+std::vector<std::string> point_axis_names(const SweepPoint& point);
 
 // Where a job's runs live under the root, without the leading '/': its task
 // ("khepera"), or a study configuration's group ("khepera/config_003"). Every

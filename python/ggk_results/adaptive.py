@@ -84,12 +84,17 @@ def adaptive_cells(path, rule=None):
         task = task.decode() if isinstance(task, bytes) else task
         configurations = max(1, sum(1 for k in f[task] if k.startswith("config_")))
         specs = read_metric_specs(f, task)
+        # A shard of the study (ggk run --shard I/N): its configurations, judged
+        # at the level of the whole study's cells.
+        judged = (set(int(c) for c in f.attrs["configurations_selected"])
+                  if "configurations_selected" in f.attrs else set(range(configurations)))
+        study_cells = int(f.attrs["adaptive_cells"]) if "adaptive_cells" in f.attrs else None
     if "configuration" not in frame.columns:
         frame = frame.assign(configuration=0)
     metric_columns = set(frame.columns[frame.columns.get_loc("status") + 1:])
     axes = [c for c in frame.columns if c not in NOT_AXES and c not in metric_columns]
     batch, max_runs = rule["batch"], rule["max_runs"]
-    wanted = [min(batch, max_runs)] * configurations
+    wanted = [min(batch, max_runs) if c in judged else 0 for c in range(configurations)]
     ranges = {}
     for metric in rule["metrics"]:
         if metric not in metric_columns or metric == "fit_seconds":
@@ -120,14 +125,14 @@ def adaptive_cells(path, rule=None):
             pairings.append((c, others, key, rows_a, rows_b,
                              int(rows_a["configuration"].iloc[0]),
                              int(rows_b["configuration"].iloc[0]) if len(rows_b) else -1))
-    count = len(pairings) * len(rule["metrics"])
+    count = study_cells if study_cells is not None else len(pairings) * len(rule["metrics"])
     alpha = 1.0 - rule["level"]
     cell_level = 1.0 - alpha / count if rule["correction"] == "bonferroni" and count else rule["level"]
     held = [set(frame[frame["configuration"] == c]["run"]) for c in range(configurations)]
     looks = 1
     decided = {}  # cell index -> the cell as a complete look decided it
     while True:
-        complete = all(all(r in held[c] for r in range(wanted[c])) for c in range(configurations))
+        complete = all(all(r in held[c] for r in range(wanted[c])) for c in judged)
         cells = []
         for c, others, key, rows_a, rows_b, conf_a, conf_b in pairings:
             for metric in rule["metrics"]:

@@ -70,6 +70,17 @@ class AdaptiveCells(support.Scratch):
         self.run_job(output, "--resume")
         self.assert_twins_agree(output)
 
+    def test_a_shard_judges_its_configurations_at_the_studys_level(self):
+        self.run_job(self.dir / "w.h5")
+        self.run_job(self.dir / "s.h5", "--shard", "1/2")
+        shard = self.assert_twins_agree(self.dir / "s.shard-1-of-2.h5")
+        whole = adaptive_cells(self.dir / "w.h5")
+        self.assertEqual(len(shard), 1)
+        self.assertEqual(shard.attrs["cell_level"], whole.attrs["cell_level"])  # 2 cells
+        self.assertEqual(shard.attrs["runs_wanted"][0], 0)  # shard 0's configuration
+        self.assertEqual(shard.attrs["runs_wanted"][1], whole.attrs["runs_wanted"][1])
+        self.assertEqual(shard["cs_low"].tolist(), whole["cs_low"].tolist()[1:])
+
 
 if __name__ == "__main__":
     import unittest

@@ -8,10 +8,18 @@
 #   resume     Ctrl-C mid-study, then the printed command, equals the study run
 #              at once; so does a study capped at 10 runs grown by --resume to
 #              the job's 60 (each look is a growth by runs)
+#   shards     --shard I/N splits the study by run configurations: the shards
+#              merged (--shards-of) equal the study run whole, for a comparison
+#              over a fit axis (each configuration a shard) and over a study
+#              axis (the compared configurations in one shard, more shards
+#              refused); a shard interrupted and resumed with the printed
+#              command equals; info names a shard's scope and the study's
+#              cells; a merge missing a shard is refused naming what lacks runs,
+#              and with --allow-partial its printed command finishes it equal
 #   refusals   a rule the study cannot follow is refused before anything runs,
 #              exit 2, naming the key: an axis not swept, a value not on it, a
 #              batch above runs, a metric with no known range, a metric the
-#              task lacks (at the first look); --shard and --runs
+#              task lacks (at the first look); --runs
 # Environment: GGK (the binary), GGK_SOURCE_DIR.
 set -euo pipefail
 case_name=$1
@@ -60,6 +68,50 @@ resume)
   "$GGK" run "$job" -q --resume -o "$scratch/grown.h5"
   "$GGK" diff "$scratch/ref.h5" "$scratch/grown.h5" >/dev/null || fail "the grown study differs"
   ;;
+shards)
+  "$GGK" run "$job" -q -j 2 -o "$scratch/whole.h5"
+  for i in 0 1; do "$GGK" run "$job" -q -j 2 --shard $i/2 -o "$scratch/s.h5"; done
+  "$GGK" info --adaptive "$scratch/s.shard-1-of-2.h5" >"$scratch/cells"
+  grep -q "a shard of 1 of the 2 configurations.*over the study's 2 cells" "$scratch/cells" ||
+    fail "info of a shard: $(cat "$scratch/cells")"
+  "$GGK" merge "$scratch/s.h5" --shards-of "$job" 2>/dev/null
+  "$GGK" diff "$scratch/whole.h5" "$scratch/s.h5" >/dev/null || fail "shards by basis differ"
+  # Over the study axis: slip 0 and 0.1 in one shard, slip 0.2 (in no cell) the other.
+  sed -e 's/^compare = .*/compare = "maze.slip=0.0,0.1"/' -e 's/^runs = 60 /runs = 20 /' \
+    -e 's/^"maze.slip" = .*/"maze.slip" = [0.0, 0.1, 0.2]/' "$job" >"$scratch/slip.toml"
+  grep -q 'compare = "maze.slip' "$scratch/slip.toml" && grep -q '^runs = 20 ' "$scratch/slip.toml" ||
+    fail "slip.toml: $(cat "$scratch/slip.toml")"
+  "$GGK" run "$scratch/slip.toml" -q -j 2 -o "$scratch/slip.h5"
+  s=$(status_of "$GGK" run "$scratch/slip.toml" -q --shard 0/3 -o "$scratch/t.h5")
+  [ "$s" = 2 ] && grep -q "form 2 groups.*use at most 2 shards" "$scratch/err" ||
+    fail "--shard 0/3 of 2 groups: status $s: $(cat "$scratch/err")"
+  out="$scratch/t.shard-0-of-2.h5"
+  set -m
+  "$GGK" run "$scratch/slip.toml" -j 1 --shard 0/2 -o "$scratch/t.h5" 2>"$scratch/err" & pid=$!
+  set +m
+  deadline=$((SECONDS + 240))
+  until [ -e "$out" ] || [ "$SECONDS" -ge "$deadline" ]; do sleep 0.05; done
+  [ -e "$out" ] || fail "no run written in 240 s"
+  kill -INT $pid
+  s=0; wait $pid || s=$?
+  if [ "$s" = 130 ]; then  # else it finished first
+    command=$(grep -o 'with `[^`]*`' "$scratch/err" | head -n 1 | sed 's/^with `//; s/`$//')
+    [[ $command == *"--shard 0/2"* ]] || fail "the printed command lacks the shard: $command"
+    bash -c "$command" 2>"$scratch/resume-err" || fail "the printed command failed: $(cat "$scratch/resume-err")"
+  fi
+  # One shard alone: refused, naming the configuration that lacks runs.
+  s=$(status_of "$GGK" merge "$scratch/part.h5" "$out")
+  [ "$s" = 2 ] && grep -q "asks for runs of maze/config_002" "$scratch/err" ||
+    fail "a merge missing a shard: status $s: $(cat "$scratch/err")"
+  [ ! -e "$scratch/part.h5" ] || fail "a refused merge left its output"
+  "$GGK" merge "$scratch/part.h5" "$out" --allow-partial 2>"$scratch/err"
+  command=$(grep -o 'finish it with `[^`]*`' "$scratch/err" | sed 's/^finish it with `//; s/`$//')
+  bash -c "$command -q" || fail "the finishing command failed: $command"
+  "$GGK" diff "$scratch/slip.h5" "$scratch/part.h5" >/dev/null || fail "the finished study differs"
+  "$GGK" run "$scratch/slip.toml" -q -j 2 --shard 1/2 -o "$scratch/t.h5"
+  "$GGK" merge "$scratch/t.h5" --shards-of "$scratch/slip.toml" 2>/dev/null
+  "$GGK" diff "$scratch/slip.h5" "$scratch/t.h5" >/dev/null || fail "shards by slip differ"
+  ;;
 refusals)
   expect_refusal() {  # what-to-find, ggk arguments...
     local find=$1; shift
@@ -74,8 +126,7 @@ refusals)
     --set 'adaptive.metrics=["mean_steps_to_goal"]'
   expect_refusal "no metric 'succes_rate'" run "$job" -q -o "$scratch/m.h5" \
     --set 'adaptive.metrics=["succes_rate"]' --set 'adaptive.range.succes_rate=[0.0, 1.0]'
-  expect_refusal "run it whole" run "$job" -q -o "$scratch/s.h5" --shard 0/2
-  expect_refusal "run it whole" run "$job" -q -o "$scratch/s.h5" --runs 0:5
+  expect_refusal "without --runs" run "$job" -q -o "$scratch/s.h5" --runs 0:5
   sed '/^\[adaptive\]/,/^correction/d' "$job" >"$scratch/fixed.toml"
   "$GGK" run "$scratch/fixed.toml" -q --set runs=2 -o "$scratch/fixed.h5"
   expect_refusal "is no adaptive study" info --adaptive "$scratch/fixed.h5"

@@ -13,8 +13,10 @@
 #          finishes the job identically
 #   adaptive   an adaptive study (jobs/ci-adaptive.toml) over 1 and 3 ranks equals
 #          it in one process (its looks handed out rank by rank); SIGINT to mpirun
-#          mid-study, then the printed command, equals it too; --runs is refused,
-#          and a metric the task lacks at the first look (exit 2, no lock left)
+#          mid-study, then the printed command, equals it too; so do its two
+#          shards by configurations (--shard I/2), each over 3 ranks, merged;
+#          --runs is refused, and a metric the task lacks at the first look
+#          (exit 2, no lock left)
 # Environment: GGK (the binary), GGK_SOURCE_DIR, MPIEXEC (launcher with its flags,
 # e.g. "mpiexec --oversubscribe --allow-run-as-root"), MPIEXEC_NUMPROC_FLAG.
 set -euo pipefail
@@ -226,7 +228,16 @@ adaptive)
   status=0; "${launcher[@]}" $(np 2) "$GGK" run "$job" -q --runs 0:5 -o "$scratch/part.h5" \
     2>"$scratch/err" || status=$?
   [ $status = 2 ] || fail "--runs under mpirun: status $status: $(cat "$scratch/err")"
-  grep -q "without --runs or --shard" "$scratch/err" || fail "--runs: $(cat "$scratch/err")"
+  grep -q "without --runs" "$scratch/err" || fail "--runs: $(cat "$scratch/err")"
+  # In two shards by run configurations, each over 3 ranks: merged, the same.
+  for i in 0 1; do
+    # shellcheck disable=SC2046
+    "${launcher[@]}" $(np 3) "$GGK" run "$job" -j 1 -q "${sets[@]}" --shard $i/2 \
+      -o "$scratch/sh.h5" 2>"$scratch/log" || { cat "$scratch/log"; fail "shard $i/2 failed"; }
+  done
+  "$GGK" merge "$scratch/sh.h5" "$scratch/sh.shard-0-of-2.h5" "$scratch/sh.shard-1-of-2.h5" \
+    2>/dev/null || fail "the shards did not merge"
+  "$GGK" diff "$scratch/single.h5" "$scratch/sh.h5" >/dev/null || fail "the merged shards differ"
   # A metric the task lacks is refused at the first look, as in one process:
   # exit 2 naming it, the runs of that look kept, no lock left.
   sed 's/^metrics = .*/metrics = ["nope"]/; s/^correction = .*/&\n[adaptive.range]\nnope = [0, 1]/' \

@@ -178,5 +178,77 @@ TEST(AdaptiveState, TheAsymptoticMethodNeedsNoRange) {
   EXPECT_THROW(adaptive_state(as_means(contents_of(1, 40, a, b)), rule_of(5), 1, 40), UsageError);
 }
 
+TEST(AdaptiveState, AShardGoesThroughItsConfigurationsLooksAsTheWholeStudyDoes) {
+  // Configuration 0 decided early, 1 capped (as above); the shard of
+  // configuration 1 alone holds its runs only.
+  const auto a = [](int c, int r) { return c == 0 ? 1.0 : (r % 2 == 0 ? 0.75 : 0.25); };
+  const auto b = [](int c, int r) { return c == 0 ? 0.0 : (r % 2 == 0 ? 0.25 : 0.75); };
+  const AdaptiveState whole = adaptive_state(contents_of(2, 40, a, b), rule_of(5), 2, 40);
+  for (const std::int32_t own : {0, 1}) {
+    ResultsContents shard = contents_of(2, 40, a, b);
+    std::erase_if(shard.fits, [&](const FitRow& fit) {
+      return fit.configuration != own || fit.run >= whole.runs_wanted[own];
+    });
+    // Without its scope the file's other configuration holds up look 1.
+    EXPECT_FALSE(adaptive_state(shard, rule_of(5), 2, 40).done);
+    const AdaptiveState state = adaptive_state(shard, rule_of(5), 2, 40, {{own}, 2});
+    ASSERT_TRUE(state.done) << own;
+    EXPECT_EQ(state.runs_wanted[own], whole.runs_wanted[own]);
+    EXPECT_EQ(state.runs_wanted[1 - own], 0);  // the other shard's
+    EXPECT_EQ(state.configurations_judged, 1);
+    EXPECT_EQ(state.level_cells, 2);
+    EXPECT_DOUBLE_EQ(state.cell_level, whole.cell_level);  // the study's two cells
+    ASSERT_EQ(state.cells.size(), 1u);
+    const AdaptiveCell& cell = state.cells[0];
+    const AdaptiveCell& same = whole.cells[static_cast<std::size_t>(own)];
+    EXPECT_EQ(cell.state, same.state);
+    EXPECT_EQ(cell.runs, same.runs);
+    EXPECT_EQ(cell.lower, same.lower);
+    EXPECT_EQ(cell.upper, same.upper);
+  }
+  // A scope naming a configuration the study lacks (a damaged shard header).
+  EXPECT_THROW(adaptive_state(contents_of(2, 5, a, b), rule_of(5), 2, 40, {{2}, 2}), UsageError);
+}
+
+// Planned fits of three configurations (slip 0, 0.1, 0.2), ggk and ogk each.
+ResultsContents planned_slips() {
+  ResultsContents planned;
+  planned.axis_names = {"basis", "slip"};
+  planned.configurations = 3;
+  const std::vector<std::string> slips = {"0", "0.1", "0.2"};
+  for (std::int32_t c = 0; c < 3; ++c) {
+    for (int side = 0; side < 2; ++side) {
+      FitRow row;
+      row.configuration = c;
+      row.point = (static_cast<std::int64_t>(c) << 32) + side;
+      row.key = {side == 0 ? "ggk" : "ogk", slips[static_cast<std::size_t>(c)]};
+      planned.fits.push_back(row);
+    }
+  }
+  return planned;
+}
+
+TEST(AdaptivePlan, LinksTheConfigurationsACellCompares) {
+  // Over a fit axis each configuration is its own group: 3 cells per metric.
+  AdaptiveRule rule = rule_of(5);
+  rule.metrics = {"success_rate", "mean_steps"};
+  const AdaptivePlan by_basis = adaptive_plan(planned_slips(), rule, 3);
+  EXPECT_EQ(by_basis.cells, 6);
+  EXPECT_EQ(by_basis.groups, 3);
+  EXPECT_EQ(by_basis.group_of, (std::vector<std::int32_t>{0, 1, 2}));
+  // Over the study axis slip = 0, 0.1: configurations 0 and 1 linked, one cell
+  // per basis; slip 0.2 is in no cell, a group alone.
+  rule.comparisons = {{"slip", "0", "0.1"}};
+  const AdaptivePlan by_slip = adaptive_plan(planned_slips(), rule, 3);
+  EXPECT_EQ(by_slip.cells, 4);
+  EXPECT_EQ(by_slip.groups, 2);
+  EXPECT_EQ(by_slip.group_of, (std::vector<std::int32_t>{0, 0, 1}));
+  // Both: 0.1 against 0.2 as well links all three.
+  rule.comparisons.push_back({"slip", "0.1", "0.2"});
+  const AdaptivePlan chained = adaptive_plan(planned_slips(), rule, 3);
+  EXPECT_EQ(chained.groups, 1);
+  EXPECT_EQ(chained.group_of, (std::vector<std::int32_t>{0, 0, 0}));
+}
+
 }  // namespace
 }  // namespace ggk::engine

@@ -46,6 +46,7 @@ class ResultsLayoutTest : public ::testing::Test {
     header.runs = 30;
     header.job_overrides = "runs=30\nseed=7";
     header.runs_selected = RunsSelected{4, 9};
+    header.configurations_selected = ConfigurationsSelected{{1, 3}, 6};
     return header;
   }
 
@@ -81,6 +82,9 @@ TEST_F(ResultsLayoutTest, HeaderReadsBackAsWritten) {
   EXPECT_EQ(file.read_int64_attribute("/", "layout"), kLayoutVersion);
   EXPECT_EQ(file.read_int64_array_attribute("/", "runs_selected"),
             (std::vector<std::int64_t>{4, 9}));
+  EXPECT_EQ(file.read_int64_array_attribute("/", "configurations_selected"),
+            (std::vector<std::int64_t>{1, 3}));
+  EXPECT_EQ(file.read_int64_attribute("/", "adaptive_cells"), 6);
 }
 
 TEST_F(ResultsLayoutTest, OptionalAttributesAreLeftOutAndReadAsAbsent) {
@@ -89,6 +93,7 @@ TEST_F(ResultsLayoutTest, OptionalAttributesAreLeftOutAndReadAsAbsent) {
   header.blas.clear();
   header.job_overrides.clear();
   header.runs_selected.reset();
+  header.configurations_selected.reset();
   const fs::path path = dir_ / "plain.h5";
   {
     Hdf5File file = Hdf5File::create(path);
@@ -174,7 +179,9 @@ TEST_F(ResultsLayoutTest, AnAttributeOfTheWrongTypeIsNamedWithBothTypes) {
   for (const Case& c : {Case{"runs", true, "not int64"}, Case{"layout", true, "not int64"},
                         Case{"job", false, "not a string"}, Case{"task", false, "not a string"},
                         Case{"input:maze.map_file", false, "not a string"},
-                        Case{"runs_selected", true, "not int64"}}) {
+                        Case{"runs_selected", true, "not int64"},
+                        Case{"configurations_selected", true, "not int64"},
+                        Case{"adaptive_cells", true, "not int64"}}) {
     const fs::path path = file_without(c.name);
     {
       Hdf5File file = Hdf5File::open_read_write(path);
