@@ -11,6 +11,7 @@
 #include "engine/job/study.hpp"
 #include "engine/job/usage_error.hpp"
 #include "engine/run/adaptive_runner.hpp"
+#include "engine/run/adaptive_shards.hpp"
 #include "engine/run/isolated_reading.hpp"
 #include "engine/run/memory_check.hpp"
 #include "engine/run/resume_preview.hpp"
@@ -112,7 +113,14 @@ int validate_job(const std::string& job_path, const std::string& output, JobLoad
     if (exists) preview_existing_output(study, written, run_options, quiet);
     return 0;
   }
-  if (job.adaptive) std::printf("%s\n", adaptive_rule_words(*job.adaptive, job.runs).c_str());
+  if (job.adaptive) {
+    std::printf("%s\n", adaptive_rule_words(*job.adaptive, job.runs).c_str());
+    const AdaptivePlan plan = adaptive_plan_of(study);
+    std::printf(
+        "adaptive: %lld cells over %zu run configurations, in %d groups no cell links: in "
+        "shards, --shard I/N with N up to %d (shards split it by configurations)\n",
+        static_cast<long long>(plan.cells), study.configurations.size(), plan.groups, plan.groups);
+  }
   if (!study.has_axes()) {
     std::printf("%s: ok (task %s, %d runs x %zu sweep points); about %s of memory per run\n",
                 job_path.c_str(), job.task.c_str(), job.runs, fits,

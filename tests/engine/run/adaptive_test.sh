@@ -81,6 +81,8 @@ shards)
     -e 's/^"maze.slip" = .*/"maze.slip" = [0.0, 0.1, 0.2]/' "$job" >"$scratch/slip.toml"
   grep -q 'compare = "maze.slip' "$scratch/slip.toml" && grep -q '^runs = 20 ' "$scratch/slip.toml" ||
     fail "slip.toml: $(cat "$scratch/slip.toml")"
+  "$GGK" validate "$scratch/slip.toml" -o "$scratch/slip.h5" | grep -q "2 cells over 3 run configurations, in 2 groups.*N up to 2" ||
+    fail "validate names no shard limit: $("$GGK" validate "$scratch/slip.toml" -o "$scratch/slip.h5")"
   "$GGK" run "$scratch/slip.toml" -q -j 2 -o "$scratch/slip.h5"
   s=$(status_of "$GGK" run "$scratch/slip.toml" -q --shard 0/3 -o "$scratch/t.h5")
   [ "$s" = 2 ] && grep -q "form 2 groups.*use at most 2 shards" "$scratch/err" ||
