@@ -27,6 +27,19 @@ scratch=$(mktemp -d "${TMPDIR:-/tmp}/ggk-adaptive-XXXXXX")
 trap 'rm -rf "$scratch"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 status_of() { local s=0; "$@" >"$scratch/out" 2>"$scratch/err" || s=$?; echo $s; }
+# ggk ARGS... in the background, SIGINT once FILE exists: prints its status,
+# its stderr in $scratch/err.
+interrupted_run() {
+  local file=$1 pid s=0 deadline=$((SECONDS + 240)); shift
+  set -m  # job control: SIGINT not ignored (as a background job of a script starts)
+  "$GGK" "$@" 2>"$scratch/err" >/dev/null & pid=$!
+  set +m
+  until [ -e "$file" ] || [ "$SECONDS" -ge "$deadline" ]; do sleep 0.05; done
+  [ -e "$file" ] || fail "no run written in 240 s"
+  kill -INT $pid
+  wait $pid || s=$?
+  echo $s
+}
 
 mkdir -p "$scratch/maps"
 cp "$GGK_SOURCE_DIR/jobs/maps/four-rooms.txt" "$scratch/maps/"
@@ -50,14 +63,7 @@ looks)
 resume)
   "$GGK" run "$job" -q -j 2 -o "$scratch/ref.h5"
   out="$scratch/cut.h5"
-  set -m  # job control: SIGINT not ignored (as a background job of a script starts)
-  "$GGK" run "$job" -j 1 -o "$out" 2>"$scratch/err" & pid=$!
-  set +m
-  deadline=$((SECONDS + 240))
-  until [ -e "$out" ] || [ "$SECONDS" -ge "$deadline" ]; do sleep 0.05; done
-  [ -e "$out" ] || fail "no run written in 240 s"
-  kill -INT $pid
-  s=0; wait $pid || s=$?
+  s=$(interrupted_run "$out" run "$job" -j 1 -o "$out")
   [ "$s" = 130 ] || fail "SIGINT: status $s: $(cat "$scratch/err")"
   command=$(grep -o 'with `[^`]*`' "$scratch/err" | head -n 1 | sed 's/^with `//; s/`$//')
   bash -c "$command" 2>"$scratch/resume-err" || fail "the printed command failed: $(cat "$scratch/resume-err")"
@@ -88,14 +94,7 @@ shards)
   [ "$s" = 2 ] && grep -q "form 2 groups.*use at most 2 shards" "$scratch/err" ||
     fail "--shard 0/3 of 2 groups: status $s: $(cat "$scratch/err")"
   out="$scratch/t.shard-0-of-2.h5"
-  set -m
-  "$GGK" run "$scratch/slip.toml" -j 1 --shard 0/2 -o "$scratch/t.h5" 2>"$scratch/err" & pid=$!
-  set +m
-  deadline=$((SECONDS + 240))
-  until [ -e "$out" ] || [ "$SECONDS" -ge "$deadline" ]; do sleep 0.05; done
-  [ -e "$out" ] || fail "no run written in 240 s"
-  kill -INT $pid
-  s=0; wait $pid || s=$?
+  s=$(interrupted_run "$out" run "$scratch/slip.toml" -j 1 --shard 0/2 -o "$scratch/t.h5")
   if [ "$s" = 130 ]; then  # else it finished first
     command=$(grep -o 'with `[^`]*`' "$scratch/err" | head -n 1 | sed 's/^with `//; s/`$//')
     [[ $command == *"--shard 0/2"* ]] || fail "the printed command lacks the shard: $command"
