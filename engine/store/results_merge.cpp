@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <system_error>
@@ -273,17 +274,22 @@ std::optional<AdaptiveRule> adaptive_rule(const ResultsHeader& header,
 }
 
 // The run configurations an adaptive study's merged contents lack runs of: the
-// rule asks for more than they hold (as "config_001, config_004").
+// rule asks for runs 0 .. wanted - 1 and one of them is missing (a shard
+// interrupted mid-look may hold run 7 without run 6), as "config_001, config_004".
 std::string configurations_lacking_runs(const ResultsContents& contents, const AdaptiveState& state,
                                         const std::vector<std::string>& locations) {
-  std::vector<std::int64_t> held(state.runs_wanted.size(), 0);
+  std::vector<std::set<std::int64_t>> held(state.runs_wanted.size());
   for (const FitRow& fit : contents.fits) {
-    auto& count = held[static_cast<std::size_t>(fit.configuration)];
-    count = std::max(count, fit.run + 1);
+    held[static_cast<std::size_t>(fit.configuration)].insert(fit.run);
   }
   std::string text;
   for (std::size_t c = 0; c < state.runs_wanted.size(); ++c) {
-    if (held[c] < state.runs_wanted[c]) text += (text.empty() ? "" : ", ") + locations[c];
+    for (std::int64_t run = 0; run < state.runs_wanted[c]; ++run) {
+      if (held[c].count(run) == 0) {
+        text += (text.empty() ? "" : ", ") + locations[c];
+        break;
+      }
+    }
   }
   return text;
 }

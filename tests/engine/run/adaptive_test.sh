@@ -14,8 +14,9 @@
 #              axis (the compared configurations in one shard, more shards
 #              refused); a shard interrupted and resumed with the printed
 #              command equals; info names a shard's scope and the study's
-#              cells; a merge missing a shard is refused naming what lacks runs,
-#              and with --allow-partial its printed command finishes it equal
+#              cells; a merge missing a shard, or with a gap in a shard's runs,
+#              is refused naming what lacks runs, and with --allow-partial its
+#              printed command finishes it equal
 #   refusals   a rule the study cannot follow is refused before anything runs,
 #              exit 2, naming the key: an axis not swept, a value not on it, a
 #              batch above runs, a metric with no known range, a metric the
@@ -112,6 +113,14 @@ shards)
   "$GGK" run "$scratch/slip.toml" -q -j 2 --shard 1/2 -o "$scratch/t.h5"
   "$GGK" merge "$scratch/t.h5" --shards-of "$scratch/slip.toml" 2>/dev/null
   "$GGK" diff "$scratch/slip.h5" "$scratch/t.h5" >/dev/null || fail "shards by slip differ"
+  # A shard with a gap (run 3 of its first configuration gone, as a shard stopped
+  # mid-look may hold run 7 without run 6): the merge names that configuration.
+  for i in 0 1; do cp "$scratch/t.shard-$i-of-2.h5" "$scratch/gap.shard-$i-of-2.h5"; done
+  /usr/bin/python3 -c 'import sys, h5py; del h5py.File(sys.argv[1], "r+")["maze/config_000/run_003"]' \
+    "$scratch/gap.shard-0-of-2.h5"
+  s=$(status_of "$GGK" merge "$scratch/gap.h5" "$scratch/gap.shard-0-of-2.h5" "$scratch/gap.shard-1-of-2.h5")
+  [ "$s" = 2 ] && grep -q "asks for runs of maze/config_000 that" "$scratch/err" ||
+    fail "a merge with a gap: status $s: $(cat "$scratch/err")"
   ;;
 refusals)
   expect_refusal() {  # what-to-find, ggk arguments...
