@@ -83,9 +83,15 @@ struct WorkUnit {
   std::int32_t configuration = 0;
   std::int32_t run = 0;
   // The indices (expand_points) of the sweep points to fit, ascending; empty:
-  // every point. A complete run of a study grown by fit-level values lacks some:
-  // only they are fitted, and the run is extended (store/run_extension.hpp).
+  // every point.
   std::vector<std::int32_t> points = {};
+  // Whether `points` extend a stored run: a complete run of a study grown by
+  // fit-level values lacks their fits, only they are fitted and the run is
+  // extended (store/run_extension.hpp); none: the run's fits are only
+  // renumbered to the grown study's points. Else a new run of those points
+  // only (an adaptive study's run that its decided cells no longer need all
+  // of: store/adaptive_state.hpp).
+  bool extends = false;
   bool operator==(const WorkUnit&) const = default;
 };
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "engine/job/usage_error.hpp"
+#include "engine/run/adaptive_shards.hpp"
 #include "engine/run/job_writer.hpp"
 #include "engine/run/open_results.hpp"
 #include "engine/store/results_contents.hpp"
@@ -19,20 +20,6 @@
 
 namespace ggk::engine {
 namespace {
-
-// The study's state from the file's complete runs, leaving out those still to
-// compute (`outstanding`: missing, or lacking fits of a grown study).
-AdaptiveState state_of_file(
-    const Hdf5File& file, const Study& study, const AdaptiveScope& scope,
-    const std::map<std::pair<std::int32_t, std::int32_t>, WorkUnit>& outstanding) {
-  ResultsContents contents = read_contents(file);
-  std::erase_if(contents.fits, [&](const FitRow& fit) {
-    return outstanding.count({fit.configuration, static_cast<std::int32_t>(fit.run)}) > 0;
-  });
-  return adaptive_state(contents, *study.job().adaptive,
-                        static_cast<std::int32_t>(study.configurations.size()), study.job().runs,
-                        scope);
-}
 
 std::string stage_text(const AdaptiveState& state) {
   if (state.cells.empty()) return "look " + std::to_string(state.looks);
@@ -116,36 +103,35 @@ std::vector<std::string> adaptive_summary_lines(const AdaptiveState& state, cons
       std::to_string(runs) + " runs, against " + std::to_string(fixed) +
       (options.configuration_shard ? " for its configurations at their most"
                                    : " for every configuration at its most") +
+      "; " + std::to_string(state.fits_wanted) + " fits, against " +
+      std::to_string(state.fits_whole) + " had the runs fitted decided cells too" +
       " (ggk info shows the cells)");
   return lines;
 }
 
-AdaptiveLooks::AdaptiveLooks(const Study& study, const RunOptions& options,
-                             const std::vector<WorkUnit>& pending)
+AdaptiveLooks::AdaptiveLooks(const Study& study, const RunOptions& options)
     : study_(study),
-      scope_(options.configuration_shard ? options.configuration_shard->scope : AdaptiveScope{}) {
-  for (const WorkUnit& unit : pending) outstanding_[{unit.configuration, unit.run}] = unit;
-}
+      scope_(options.configuration_shard ? options.configuration_shard->scope : AdaptiveScope{}),
+      planned_(planned_contents(study)) {}
 
 std::vector<WorkUnit> AdaptiveLooks::next_look(JobWriter& writer) {
-  state_ = writer.read(
-      [&](Hdf5File& file) { return state_of_file(file, study_, scope_, outstanding_); });
+  state_ = writer.read([&](Hdf5File& file) {
+    return adaptive_state(read_contents(file), *study_.job().adaptive,
+                          static_cast<std::int32_t>(study_.configurations.size()),
+                          study_.job().runs, scope_, &planned_);
+  });
   std::vector<WorkUnit> look;
-  for (std::size_t c = 0; c < study_.configurations.size(); ++c) {
-    for (std::int32_t run = 0; run < state_.runs_wanted[c]; ++run) {
-      const auto at = outstanding_.find({static_cast<std::int32_t>(c), run});
-      if (at != outstanding_.end()) look.push_back(at->second);
-    }
+  for (const RunNeed& need : state_.needs) {
+    look.push_back({need.configuration, need.run, need.points, !need.new_run});
   }
   writer.set_stage(stage_text(state_));
   if (look.empty()) {
     if (state_.done) return look;
     throw std::logic_error("adaptive study: look " + std::to_string(state_.looks) +
-                           " lacks runs but none is outstanding");
+                           " lacks runs but needs none");
   }
   writer.add_runs_to_write(static_cast<std::int32_t>(look.size()));
   writer.expect_units(look);
-  for (const WorkUnit& unit : look) outstanding_.erase({unit.configuration, unit.run});
   computed_ += static_cast<std::int32_t>(look.size());
   return look;
 }
@@ -176,7 +162,7 @@ RunSummary run_adaptive_study(const Study& study, const RunOptions& options) {
   if (!options.quiet) print_notes(opened.info);
   RunSummary summary;
   summary.output = opened.target.output();
-  AdaptiveLooks looks(study, options, opened.pending);
+  AdaptiveLooks looks(study, options);
 
   RunTally tally;
   JobWriter writer(study, options, std::move(opened), 0, StopSignals::Mode::kStopInHandler);

@@ -33,21 +33,20 @@ void check_adaptive_metrics(const Study& study);
 // (its sign; bernstein confidence sequence, level 0.95 over all cells)".
 std::string adaptive_rule_words(const AdaptiveRule& rule, std::int32_t runs);
 
-// The looks of an adaptive study, over the units open_results left to compute
-// (`pending`: missing runs, or complete runs lacking fits of a grown study).
-// Used by one thread (the one that commits or coordinates).
+// The looks of an adaptive study. Used by one thread (the one that commits or
+// coordinates).
 class AdaptiveLooks {
  public:
   // `options`: a shard's configurations (configuration_shard), or all.
-  AdaptiveLooks(const Study& study, const RunOptions& options,
-                const std::vector<WorkUnit>& pending);
+  AdaptiveLooks(const Study& study, const RunOptions& options);
 
-  // The units of the next look: the outstanding ones among the runs the rule now
-  // asks for, decided from the file's complete runs (read through `writer`,
-  // after every committed run is written: call writer.wait() first). Counted
+  // The units of the next look, decided from the file's complete runs (read
+  // through `writer`, after every committed run is written: call writer.wait()
+  // first): the runs the rule now asks for that the file lacks, each with the
+  // points its open cells need (AdaptiveState::needs), and stored runs lacking
+  // points they need (a study grown by fit-level values: extensions). Counted
   // in the writer's progress (its stage names the look and the open cells).
-  // Empty when the study is done; a look that lacks runs none of which is
-  // outstanding is a std::logic_error.
+  // Empty when the study is done.
   std::vector<WorkUnit> next_look(JobWriter& writer);
 
   const AdaptiveState& state() const { return state_; }
@@ -57,10 +56,9 @@ class AdaptiveLooks {
   std::int64_t runs_used() const;
 
  private:
-  using RunKey = std::pair<std::int32_t, std::int32_t>;  // (configuration, run)
   const Study& study_;
   AdaptiveScope scope_;
-  std::map<RunKey, WorkUnit> outstanding_;
+  ResultsContents planned_;  // the study's sweep points (adaptive_shards.hpp)
   AdaptiveState state_;
   std::int32_t computed_ = 0;
 };

@@ -40,15 +40,17 @@ RunRecord compute_unit(const Study& study, const WorkUnit& unit) {
     throw std::logic_error("job names task '" + configuration.job.task + "', not registered");
   }
   std::vector<SweepPoint> points = expand_points(configuration);
-  if (!unit.points.empty()) {  // an extension: only the points the stored run lacks
-    std::vector<SweepPoint> lacking;
-    for (const std::int32_t index : unit.points) lacking.push_back(points.at(index));
-    points = std::move(lacking);
+  // An extension's lacking points (none: it renumbers the run's fits), or a
+  // new run's needed ones.
+  if (!unit.points.empty() || unit.extends) {
+    std::vector<SweepPoint> chosen;
+    for (const std::int32_t index : unit.points) chosen.push_back(points.at(index));
+    points = std::move(chosen);
   }
   RunRecord record = task->compute_run(configuration.job, unit.run, points);
   record.dataset_specs = task->datasets;
   record.configuration = unit.configuration;
-  record.extension = !unit.points.empty();
+  record.extension = unit.extends;
   return record;
 }
 

@@ -46,7 +46,7 @@ using Clock = std::chrono::steady_clock;
 // Message tags. Worker -> rank 0: ready (first request), result (a run's image,
 // also a request for the next run), heartbeat (still computing), failed (an
 // internal error; the worker stops), stopped (by a signal; the worker exits).
-// Rank 0 -> worker: assign (a run; an extension's points follow as assign_points), stop.
+// Rank 0 -> worker: assign (a run; a unit's points follow as assign_points), stop.
 enum Tag : int {
   kReady = 1,
   kResult = 2,
@@ -55,7 +55,7 @@ enum Tag : int {
   kAssign = 5,
   kStop = 6,
   kStopped = 7,      // worker -> rank 0: a stop signal arrived (its number); the worker exits
-  kAssignPoints = 8  // rank 0 -> worker, right after an assign that extends a run: its points
+  kAssignPoints = 8  // rank 0 -> worker, right after an assign of some points: the points
 };
 
 constexpr auto kHeartbeatPeriod = std::chrono::milliseconds(250);
@@ -82,17 +82,22 @@ struct ResultHeader {
 };
 
 // A unit of work (study.hpp) as the one int64 an assignment sends, and back;
-// a unit that extends a run (WorkUnit::points) sets kExtends, and its points
-// follow in a kAssignPoints message.
-constexpr std::int64_t kExtends = std::int64_t{1} << 62;
+// a unit of some points only (WorkUnit::points) sets kWithPoints, and its
+// points follow in a kAssignPoints message; one that extends a stored run
+// (WorkUnit::extends) also sets kExtends.
+constexpr std::int64_t kWithPoints = std::int64_t{1} << 62;
+constexpr std::int64_t kExtends = std::int64_t{1} << 61;
 std::int64_t encode(const WorkUnit& unit) {
   return (static_cast<std::int64_t>(unit.configuration) << 32) |
          static_cast<std::int64_t>(static_cast<std::uint32_t>(unit.run)) |
-         (unit.points.empty() ? 0 : kExtends);
+         (unit.points.empty() ? 0 : kWithPoints) | (unit.extends ? kExtends : 0);
 }
 WorkUnit decode(std::int64_t value) {
-  return {static_cast<std::int32_t>((value & ~kExtends) >> 32),
-          static_cast<std::int32_t>(static_cast<std::uint32_t>(value & 0xffffffff))};
+  WorkUnit unit;
+  unit.configuration = static_cast<std::int32_t>((value & ~(kWithPoints | kExtends)) >> 32);
+  unit.run = static_cast<std::int32_t>(static_cast<std::uint32_t>(value & 0xffffffff));
+  unit.extends = (value & kExtends) != 0;
+  return unit;
 }
 
 std::string processor_name() {
@@ -220,7 +225,7 @@ int work(const Study& study) {
     if (status.MPI_TAG == kStop) return 0;
     // Compute on oneTBB's threads; this (the MPI) thread says it is alive.
     WorkUnit unit = decode(run);
-    if ((run & kExtends) != 0) {  // sent right after the assignment
+    if ((run & kWithPoints) != 0) {  // sent right after the assignment
       MPI_Status points_status;
       MPI_Probe(0, kAssignPoints, MPI_COMM_WORLD, &points_status);
       int count = 0;
@@ -277,7 +282,7 @@ class Coordinator {
         size_(size),
         skipped_(opened.skipped),
         looks_(study.job().adaptive
-                   ? std::optional<AdaptiveLooks>(std::in_place, study, options.run, opened.pending)
+                   ? std::optional<AdaptiveLooks>(std::in_place, study, options.run)
                    : std::nullopt),
         pending_(looks_ ? std::deque<WorkUnit>()
                         : std::deque<WorkUnit>(opened.pending.begin(), opened.pending.end())),

@@ -304,7 +304,13 @@ void add_pending_units(const Study& study, const RunOptions& options,
         continue;
       }
       // A complete run of a study grown by fit-level values lacks their fits:
-      // only they are computed (store/run_extension.hpp).
+      // only they are computed (store/run_extension.hpp). An adaptive study's
+      // runs hold the points their looks needed: its looks extend them
+      // (run/adaptive_runner.hpp).
+      if (study.job().adaptive) {
+        ++opened.skipped;
+        continue;
+      }
       std::vector<std::int32_t> lacking;
       try {
         lacking = lacking_points(opened.file, runs_location(configuration.job), run, points);
@@ -316,7 +322,7 @@ void add_pending_units(const Study& study, const RunOptions& options,
       } else {
         ++extended;
         new_fits += static_cast<std::int64_t>(lacking.size());
-        opened.pending.push_back({static_cast<std::int32_t>(c), run, std::move(lacking)});
+        opened.pending.push_back({static_cast<std::int32_t>(c), run, std::move(lacking), true});
       }
     }
   }

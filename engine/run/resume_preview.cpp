@@ -77,18 +77,31 @@ ResumePreview preview_resume(const Hdf5File& file, const Study& study, const fs:
     if (locations[c] && file.exists("/" + *locations[c])) {
       complete = complete_runs(file, *locations[c], runs);
     }
-    for (const std::int32_t run : complete) {
-      std::vector<std::int32_t> lacking;
+    std::vector<std::vector<std::int32_t>> lacking(complete.size());
+    for (std::size_t i = 0; i < complete.size(); ++i) {
       try {
-        lacking = lacking_points(file, *locations[c], run, points);
+        lacking[i] = lacking_points(file, *locations[c], complete[i], points);
       } catch (const std::runtime_error& e) {
         throw UsageError("cannot resume " + output.string() + ": " + e.what());
       }
-      if (lacking.empty()) {
+    }
+    if (study.job().adaptive && !lacking.empty()) {
+      // An adaptive study's runs hold the points their open cells needed: a run
+      // lacks only the job's new values, the points no run of it holds.
+      std::vector<std::int32_t> new_values = lacking.front();
+      for (const std::vector<std::int32_t>& points_lacking : lacking) {
+        std::erase_if(new_values, [&](std::int32_t p) {
+          return !std::binary_search(points_lacking.begin(), points_lacking.end(), p);
+        });
+      }
+      for (std::vector<std::int32_t>& points_lacking : lacking) points_lacking = new_values;
+    }
+    for (const std::vector<std::int32_t>& points_lacking : lacking) {
+      if (points_lacking.empty()) {
         ++preview.kept_runs;
       } else {
         ++preview.extended_runs;
-        preview.extension_fits += static_cast<std::int64_t>(lacking.size());
+        preview.extension_fits += static_cast<std::int64_t>(points_lacking.size());
       }
     }
     const auto missing =
@@ -118,9 +131,9 @@ std::vector<std::string> preview_words(const ResumePreview& preview, const Study
             count_words(preview.new_run_fits, "fit", "fits") + ")";
   }
   if (preview.extended_runs > 0) {
-    what += " and grow " + count_words(preview.extended_runs, "complete run", "complete runs") +
-            " by " + count_words(preview.extension_fits, "fit", "fits") +
-            " of the job's new values";
+    what += std::string(" and grow ") + (adaptive ? "up to " : "") +
+            count_words(preview.extended_runs, "complete run", "complete runs") + " by " +
+            count_words(preview.extension_fits, "fit", "fits") + " of the job's new values";
   }
   if (preview.grows) what += " (the job grows the file's)";
   if (adaptive) what += "; an adaptive study: its looks decide how many runs it adds";

@@ -56,7 +56,9 @@ std::string adaptive_status_line(const AdaptiveState& state, const AdaptiveRule&
                ? ": a shard of " + std::to_string(state.configurations_judged) + " of the " +
                      std::to_string(configurations) + " configurations"
                : std::string()) +
-          "); each cell at level " + number(state.cell_level, false) + " (" +
+          "), holding " + std::to_string(state.fits_wanted) + " of their " +
+          std::to_string(state.fits_whole) + " fits (a decided cell's later fits left out)" +
+          "; each cell at level " + number(state.cell_level, false) + " (" +
           (rule.correction == AdaptiveCorrection::kBonferroni
                ? "Bonferroni over the study's " + std::to_string(state.level_cells) +
                      " cells of level " + number(rule.level, false)

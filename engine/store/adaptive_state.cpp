@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <optional>
@@ -18,30 +20,36 @@
 namespace ggk::engine {
 namespace {
 
-// One point of the other axes of a comparison: its two sides' fits by run.
+using RunFits = std::map<std::int64_t, const FitRow*>;  // run -> fit
+
+// One point of the other axes of a comparison: its two sides' sweep points
+// ((configuration << 32) + index, FitRow::point; -1: none) and their fits by run.
 struct Pairing {
   std::vector<std::string> key;
-  std::int64_t first_point = 0;  // the smallest point of side A: the cells' order
+  std::int64_t first_point = 0;  // side A's point: the cells' order
   std::int32_t configuration_a = -1;
   std::int32_t configuration_b = -1;
-  std::map<std::int64_t, const FitRow*> a;  // run -> fit
-  std::map<std::int64_t, const FitRow*> b;
+  std::int64_t point_a = -1;
+  std::int64_t point_b = -1;
+  const RunFits* a = nullptr;  // set by attach_fits
+  const RunFits* b = nullptr;
 };
 
-std::vector<Pairing> pairings(const ResultsContents& contents, const AdaptiveComparison& compare,
+// The pairings of `compare` over the sweep points `rows` lists (a file's fits,
+// or a study's planned rows: run/adaptive_shards.hpp), in side A's point order.
+std::vector<Pairing> pairings(const ResultsContents& rows, const AdaptiveComparison& compare,
                               std::vector<std::string>& key_names) {
-  const auto axis_at =
-      std::find(contents.axis_names.begin(), contents.axis_names.end(), compare.axis);
-  if (axis_at == contents.axis_names.end()) {
+  const auto axis_at = std::find(rows.axis_names.begin(), rows.axis_names.end(), compare.axis);
+  if (axis_at == rows.axis_names.end()) {
     throw UsageError("[adaptive] compare = \"" + compare.text() + "\": the results have no axis '" +
                      compare.axis + "'");
   }
-  const auto axis = static_cast<std::size_t>(axis_at - contents.axis_names.begin());
-  key_names = contents.axis_names;
+  const auto axis = static_cast<std::size_t>(axis_at - rows.axis_names.begin());
+  key_names = rows.axis_names;
   key_names.erase(key_names.begin() + static_cast<std::ptrdiff_t>(axis));
   std::vector<Pairing> result;
   std::map<std::vector<std::string>, std::size_t> index_of;
-  for (const FitRow& fit : contents.fits) {
+  for (const FitRow& fit : rows.fits) {
     const bool is_a = same_value_text(fit.key[axis], compare.a);
     if (!is_a && !same_value_text(fit.key[axis], compare.b)) continue;
     std::vector<std::string> key = fit.key;
@@ -55,18 +63,53 @@ std::vector<Pairing> pairings(const ResultsContents& contents, const AdaptiveCom
     }
     Pairing& pairing = result[at->second];
     if (is_a) {
-      pairing.a[fit.run] = &fit;
       pairing.configuration_a = fit.configuration;
+      pairing.point_a = fit.point;
       pairing.first_point = std::min(pairing.first_point, fit.point);
     } else {
-      pairing.b[fit.run] = &fit;
       pairing.configuration_b = fit.configuration;
+      pairing.point_b = fit.point;
     }
   }
   std::stable_sort(result.begin(), result.end(), [](const Pairing& x, const Pairing& y) {
     return x.first_point < y.first_point;
   });
   return result;
+}
+
+// Points each pairing's sides at their fits in `by_point` (point -> run -> fit).
+void attach_fits(std::vector<Pairing>& pairings, const std::map<std::int64_t, RunFits>& by_point) {
+  static const RunFits kNone;
+  for (Pairing& pairing : pairings) {
+    const auto a = by_point.find(pairing.point_a);
+    const auto b = by_point.find(pairing.point_b);
+    pairing.a = a == by_point.end() ? &kNone : &a->second;
+    pairing.b = b == by_point.end() ? &kNone : &b->second;
+  }
+}
+
+// A point's index among its configuration's sweep points (expand_points).
+std::int32_t point_index(std::int64_t point) {
+  return static_cast<std::int32_t>(point & 0xffffffff);
+}
+
+// A fit's configuration and axis values, numbers as their value ("8" and "8.0"
+// alike): a sweep point whatever index a file gave it (a study grown by
+// fit-level values renumbers a run's points only when it extends the run).
+std::vector<std::string> point_identity(const FitRow& fit) {
+  std::vector<std::string> identity = {std::to_string(fit.configuration)};
+  for (const std::string& cell : fit.key) {
+    char* end = nullptr;
+    const double value = std::strtod(cell.c_str(), &end);
+    if (cell.empty() || *end != '\0') {
+      identity.push_back(cell);
+      continue;
+    }
+    char text[40];
+    std::snprintf(text, sizeof text, "%.17g", value);
+    identity.emplace_back(text);
+  }
+  return identity;
 }
 
 std::string metric_list(const std::vector<std::string>& names) {
@@ -172,9 +215,9 @@ AdaptiveCell judge_cell(const ResultsContents& contents, const AdaptiveRule& rul
   std::vector<double> differences;
   bool failed = false;
   for (std::int64_t r = 0; r < n; ++r) {
-    const auto a = pairing.a.find(r);
-    const auto b = pairing.b.find(r);
-    if (a == pairing.a.end() || b == pairing.b.end()) break;  // not yet computed
+    const auto a = pairing.a->find(r);
+    const auto b = pairing.b->find(r);
+    if (a == pairing.a->end() || b == pairing.b->end()) break;  // not yet computed
     const double x = a->second->values[metric.column];
     const double y = b->second->values[metric.column];
     if (std::isnan(x) || std::isnan(y)) {
@@ -224,10 +267,11 @@ AdaptiveCell judge_cell(const ResultsContents& contents, const AdaptiveRule& rul
 
 AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule& rule,
                              std::int32_t configurations, std::int32_t max_runs,
-                             const AdaptiveScope& scope) {
+                             const AdaptiveScope& scope, const ResultsContents* planned) {
   AdaptiveState state;
+  const auto count = static_cast<std::size_t>(configurations);
   // The configurations this process judges (a shard's, or all).
-  std::vector<bool> judged(static_cast<std::size_t>(configurations), scope.configurations.empty());
+  std::vector<bool> judged(count, scope.configurations.empty());
   for (const std::int32_t c : scope.configurations) {
     if (c < 0 || c >= configurations) {
       throw UsageError("an adaptive study's shard names run configuration " + std::to_string(c) +
@@ -236,23 +280,106 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
     }
     judged[static_cast<std::size_t>(c)] = true;
   }
-  state.runs_wanted.assign(static_cast<std::size_t>(configurations), 0);
-  for (std::size_t c = 0; c < judged.size(); ++c) {
+  state.runs_wanted.assign(count, 0);
+  for (std::size_t c = 0; c < count; ++c) {
     if (judged[c]) state.runs_wanted[c] = std::min(rule.batch, max_runs);
   }
   state.configurations_judged = std::count(judged.begin(), judged.end(), true);
   state.level_cells = scope.cells.value_or(0);
   state.key_names.resize(rule.comparisons.size());
-  if (contents.fits.empty()) return state;  // look 1 has no runs yet
+
+  // Every configuration's sweep points, and those each stored run holds.
+  const ResultsContents& rows = planned != nullptr ? *planned : contents;
+  std::vector<std::vector<std::int32_t>> all_points(count);
+  for (const FitRow& fit : rows.fits) {
+    if (fit.configuration >= 0 && fit.configuration < configurations) {
+      all_points[static_cast<std::size_t>(fit.configuration)].push_back(point_index(fit.point));
+    }
+  }
+  for (std::vector<std::int32_t>& points : all_points) {
+    std::sort(points.begin(), points.end());
+    points.erase(std::unique(points.begin(), points.end()), points.end());
+  }
+  state.run_points.resize(count);
+  for (std::size_t c = 0; c < count; ++c) state.run_points[c].push_back({0, all_points[c]});
+  // The file's fits by point, a planned study's points found by their values.
+  std::map<std::vector<std::string>, std::int64_t> planned_point;
+  if (planned != nullptr) {
+    for (const FitRow& fit : planned->fits) planned_point.emplace(point_identity(fit), fit.point);
+  }
+  std::vector<std::map<std::int64_t, std::set<std::int32_t>>> stored(count);  // run -> points
+  // Per configuration, the stored runs whose fits carry another index than the
+  // study's (a study grown by fit-level values): extended, if by nothing.
+  std::vector<std::set<std::int64_t>> renumbered(count);
+  std::map<std::int64_t, RunFits> by_point;
+  for (const FitRow& fit : contents.fits) {
+    std::int64_t point = fit.point;
+    if (planned != nullptr) {
+      const auto at = planned_point.find(point_identity(fit));
+      if (at == planned_point.end()) continue;  // no point of the study (never judged)
+      point = at->second;
+      if (point != fit.point && fit.configuration >= 0 && fit.configuration < configurations) {
+        renumbered[static_cast<std::size_t>(fit.configuration)].insert(fit.run);
+      }
+    }
+    by_point[point][fit.run] = &fit;
+    if (fit.configuration >= 0 && fit.configuration < configurations) {
+      stored[static_cast<std::size_t>(fit.configuration)][fit.run].insert(point_index(point));
+    }
+  }
+  const auto needed_of = [&](std::size_t c, std::int64_t run) -> const std::vector<std::int32_t>& {
+    const std::vector<RunPoints>& segments = state.run_points[c];
+    auto at = segments.end();
+    while (at != segments.begin() && std::prev(at)->first_run > run) --at;
+    return std::prev(at)->points;
+  };
+  // The current look's runs still to compute, and its fits counted.
+  const auto fill_needs = [&] {
+    state.needs.clear();
+    state.fits_wanted = state.fits_whole = 0;
+    for (std::size_t c = 0; c < count; ++c) {
+      if (!judged[c]) continue;
+      for (std::int32_t run = 0; run < state.runs_wanted[c]; ++run) {
+        const std::vector<std::int32_t>& needed = needed_of(c, run);
+        state.fits_wanted += static_cast<std::int64_t>(needed.size());
+        state.fits_whole += static_cast<std::int64_t>(all_points[c].size());
+        const auto held = stored[c].find(run);
+        if (held == stored[c].end()) {
+          state.needs.push_back({static_cast<std::int32_t>(c), run, true,
+                                 needed == all_points[c] ? std::vector<std::int32_t>{} : needed});
+          continue;
+        }
+        std::vector<std::int32_t> lacking;
+        for (const std::int32_t p : needed) {
+          if (held->second.count(p) == 0) lacking.push_back(p);
+        }
+        if (!lacking.empty() || renumbered[c].count(run) > 0) {
+          state.needs.push_back({static_cast<std::int32_t>(c), run, false, std::move(lacking)});
+        }
+      }
+    }
+  };
+  if (contents.fits.empty()) {  // look 1 has no runs yet
+    fill_needs();
+    return state;
+  }
 
   const std::vector<ComparedMetric> compared = compared_metrics(contents, rule);
 
   // Per comparison, its points of the other axes; each is one cell per metric.
   std::vector<std::vector<Pairing>> points;
   std::size_t cell_count = 0;
+  // Per sweep point, the first cells of the pairings it is a side of.
+  std::map<std::int64_t, std::vector<std::size_t>> cells_of_point;
   for (std::size_t c = 0; c < rule.comparisons.size(); ++c) {
-    points.push_back(pairings(contents, rule.comparisons[c], state.key_names[c]));
-    cell_count += points.back().size() * compared.size();
+    points.push_back(pairings(rows, rule.comparisons[c], state.key_names[c]));
+    attach_fits(points.back(), by_point);
+    for (const Pairing& pairing : points.back()) {
+      for (const std::int64_t point : {pairing.point_a, pairing.point_b}) {
+        if (point >= 0) cells_of_point[point].push_back(cell_count);
+      }
+      cell_count += compared.size();
+    }
   }
   if (scope.cells && static_cast<std::int64_t>(cell_count) > *scope.cells) {
     throw std::logic_error("adaptive_state: the file holds " + std::to_string(cell_count) +
@@ -264,19 +391,32 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
                          ? 1.0 - alpha / static_cast<double>(state.level_cells)
                          : rule.level;
 
-  // The runs each configuration holds: 0 .. have[c] - 1 without a gap.
-  std::vector<std::set<std::int64_t>> runs_of(static_cast<std::size_t>(configurations));
-  for (const FitRow& fit : contents.fits) {
-    if (fit.configuration >= 0 && fit.configuration < configurations) {
-      runs_of[static_cast<std::size_t>(fit.configuration)].insert(fit.run);
-    }
-  }
-  const auto holds = [&](std::int32_t configuration, std::int32_t runs) {
-    const std::set<std::int64_t>& held = runs_of[static_cast<std::size_t>(configuration)];
+  // Whether a configuration holds runs 0 .. runs - 1, each with the points it needs.
+  const auto holds = [&](std::size_t configuration, std::int32_t runs) {
     for (std::int32_t r = 0; r < runs; ++r) {
-      if (held.count(r) == 0) return false;
+      const auto held = stored[configuration].find(r);
+      if (held == stored[configuration].end()) return false;
+      for (const std::int32_t p : needed_of(configuration, r)) {
+        if (held->second.count(p) == 0) return false;
+      }
     }
     return true;
+  };
+  // The points a configuration's next runs need after a complete look: a point
+  // stays while a cell it is a side of is open (or it is in no cell).
+  const auto needed_after_look = [&](std::size_t configuration) {
+    std::vector<std::int32_t> needed;
+    for (const std::int32_t p : all_points[configuration]) {
+      const auto at = cells_of_point.find((static_cast<std::int64_t>(configuration) << 32) + p);
+      bool open = at == cells_of_point.end();
+      for (std::size_t i = 0; !open && at != cells_of_point.end() && i < at->second.size(); ++i) {
+        for (std::size_t m = 0; m < compared.size(); ++m) {
+          if (state.cells[at->second[i] + m].state == CellState::kOpen) open = true;
+        }
+      }
+      if (open) needed.push_back(p);
+    }
+    return needed;
   };
 
   // Judges every cell on the runs the current look gives its configurations. A
@@ -307,14 +447,11 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
 
   for (;;) {
     bool complete = true;
-    for (std::int32_t c = 0; c < configurations; ++c) {
-      if (judged[static_cast<std::size_t>(c)] &&
-          !holds(c, state.runs_wanted[static_cast<std::size_t>(c)])) {
-        complete = false;
-      }
+    for (std::size_t c = 0; c < count; ++c) {
+      if (judged[c] && !holds(c, state.runs_wanted[c])) complete = false;
     }
     judge(complete);
-    if (!complete) return state;  // the look's runs are being computed
+    if (!complete) break;  // the look's runs are being computed
     std::vector<std::int32_t> next = state.runs_wanted;
     for (const AdaptiveCell& cell : state.cells) {
       if (cell.state != CellState::kOpen) continue;
@@ -327,11 +464,21 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
     }
     if (next == state.runs_wanted) {
       state.done = true;
-      return state;
+      break;
+    }
+    // The runs the next look adds hold the points their open cells need.
+    for (std::size_t c = 0; c < count; ++c) {
+      if (next[c] == state.runs_wanted[c]) continue;
+      std::vector<std::int32_t> needed = needed_after_look(c);
+      if (needed != state.run_points[c].back().points) {
+        state.run_points[c].push_back({state.runs_wanted[c], std::move(needed)});
+      }
     }
     state.runs_wanted = std::move(next);
     ++state.looks;
   }
+  fill_needs();
+  return state;
 }
 
 AdaptiveScope adaptive_scope_of(const ResultsHeader& header) {

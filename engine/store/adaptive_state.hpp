@@ -21,6 +21,11 @@
 // done when no cell asks for more. A cell with a failed fit (a NaN metric) in
 // its runs is "failed": it asks for nothing.
 //
+// The rule stops each cell on its own: the runs a look adds hold only the
+// sweep points of the cells still open (and those in no cell), so a cell's fits
+// are computed in exactly the runs it is judged on. As cells never reopen,
+// every run a cell is judged on holds its fits.
+//
 // The guarantee, "bernstein" (Waudby-Smith & Ramdas 2023, Theorem 2, for
 // independent runs): with correction "bonferroni", the chance that any cell's
 // interval misses its true mean difference at any look (so that any decided
@@ -61,6 +66,25 @@ struct AdaptiveCell {
   CellState state = CellState::kOpen;
 };
 
+// The sweep points (indices into the configuration's expand_points, ascending)
+// its runs hold from `first_run` on, up to the next such segment.
+struct RunPoints {
+  std::int64_t first_run = 0;
+  std::vector<std::int32_t> points;
+  bool operator==(const RunPoints&) const = default;
+};
+
+// A run the current look needs that the file lacks whole or in part.
+struct RunNeed {
+  std::int32_t configuration = 0;
+  std::int32_t run = 0;
+  bool new_run = true;  // absent: computed with `points`; else stored, lacking `points`
+  // new_run: the points it needs, empty for all of them; else the points it
+  // lacks, none when it only carries other indices than the study's (a study
+  // grown by fit-level values renumbers its points).
+  std::vector<std::int32_t> points;
+};
+
 struct AdaptiveState {
   std::vector<AdaptiveCell> cells;  // comparison by comparison, then by point, then metric
   std::vector<std::vector<std::string>> key_names;  // per comparison: the other axes' names
@@ -72,6 +96,15 @@ struct AdaptiveState {
   std::int64_t level_cells = 0;  // the cells the correction divides over: the study's
   // The configurations judged: a shard's (AdaptiveScope), else every one.
   std::int64_t configurations_judged = 0;
+  // Per configuration: the points its runs need, segment by segment. Run r
+  // needs the points of the cells still open at the look that first asked for
+  // it (a point in no cell: always), so a decided cell's fits are not computed
+  // in later runs.
+  std::vector<std::vector<RunPoints>> run_points;
+  // The current look's runs the file lacks or lacks points of (none once done).
+  std::vector<RunNeed> needs;
+  std::int64_t fits_wanted = 0;  // the fits the current look's runs need, summed
+  std::int64_t fits_whole = 0;   // the same runs' fits had each run every point
   std::int64_t open_cells() const;
 };
 
@@ -102,9 +135,15 @@ AdaptiveScope adaptive_scope_of(const ResultsHeader& header);
 // group of a closed set of configurations (adaptive_plan) goes through the same
 // looks alone as in the whole study, so a shard of such sets computes the runs
 // the whole study gives them.
+//
+// The sweep points are the file's, or with `planned` (run/adaptive_shards.hpp:
+// the study's, as the file will list them) the study's: a study grown by
+// fit-level values has points no run holds yet. A look is complete when every
+// run it gives a configuration is stored with the points that run needs.
 AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule& rule,
                              std::int32_t configurations, std::int32_t max_runs,
-                             const AdaptiveScope& scope = {});
+                             const AdaptiveScope& scope = {},
+                             const ResultsContents* planned = nullptr);
 
 // The cells of a study and the run configurations they link, from `planned`:
 // one fit row per configuration and sweep point, its axes (axis_names, key) as

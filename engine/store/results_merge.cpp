@@ -273,23 +273,17 @@ std::optional<AdaptiveRule> adaptive_rule(const ResultsHeader& header,
   }
 }
 
-// The run configurations an adaptive study's merged contents lack runs of: the
+// The run configurations an adaptive study's merged file lacks runs of: the
 // rule asks for runs 0 .. wanted - 1 and one of them is missing (a shard
-// interrupted mid-look may hold run 7 without run 6), as "config_001, config_004".
-std::string configurations_lacking_runs(const ResultsContents& contents, const AdaptiveState& state,
+// interrupted mid-look may hold run 7 without run 6) or lacks points its open
+// cells need (state.needs), as "config_001, config_004".
+std::string configurations_lacking_runs(const AdaptiveState& state,
                                         const std::vector<std::string>& locations) {
-  std::vector<std::set<std::int64_t>> held(state.runs_wanted.size());
-  for (const FitRow& fit : contents.fits) {
-    held[static_cast<std::size_t>(fit.configuration)].insert(fit.run);
-  }
+  std::set<std::int32_t> lacking;
+  for (const RunNeed& need : state.needs) lacking.insert(need.configuration);
   std::string text;
-  for (std::size_t c = 0; c < state.runs_wanted.size(); ++c) {
-    for (std::int64_t run = 0; run < state.runs_wanted[c]; ++run) {
-      if (held[c].count(run) == 0) {
-        text += (text.empty() ? "" : ", ") + locations[c];
-        break;
-      }
-    }
+  for (const std::int32_t c : lacking) {
+    text += (text.empty() ? "" : ", ") + locations[static_cast<std::size_t>(c)];
   }
   return text;
 }
@@ -315,7 +309,7 @@ void merge_adaptive_shards(const std::filesystem::path& output, const std::vecto
     const AdaptiveState state =
         adaptive_state(contents, rule, static_cast<std::int32_t>(locations.size()),
                        static_cast<std::int32_t>(first.runs));
-    if (!state.done) lacking = configurations_lacking_runs(contents, state, locations);
+    if (!state.done) lacking = configurations_lacking_runs(state, locations);
     if (!lacking.empty() && !options.allow_partial) {
       throw UsageError(
           "the adaptive study is not done: its rule asks for runs of " + lacking +

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/store/metric_specs_table.hpp"
 #include "engine/store/run_digest.hpp"
 #include "engine/store/run_store.hpp"
 
@@ -62,12 +63,16 @@ void add_old_fits(Hdf5File& file, const std::string& old_run, const std::string&
 
   const std::string old_table = old_run + "/fit_metrics";
   const std::string new_table = staging + "/fit_metrics";
-  const std::vector<TableColumn> columns = file.read_table_columns(new_table);
+  // An extension by no fit (it renumbers the old ones) has a table with no
+  // metric columns: the old table's are the run's.
+  const bool new_fits = !file.read_table(new_table).empty();
+  const std::string described = new_fits ? new_table : old_table;
+  const std::vector<TableColumn> columns = file.read_table_columns(described);
   if (file.read_table_columns(old_table) != columns) {
     throw std::runtime_error(what + "its fit_metrics columns differ from the job's");
   }
   const std::size_t point_column = column_index(columns, "sweep_point", new_table);
-  std::vector<TableRow> rows = file.read_table(new_table);
+  std::vector<TableRow> rows = new_fits ? file.read_table(new_table) : std::vector<TableRow>{};
   for (TableRow row : file.read_table(old_table)) {
     const auto found = renumbered.find(std::get<std::int32_t>(row[point_column]));
     if (found == renumbered.end()) {
@@ -82,13 +87,18 @@ void add_old_fits(Hdf5File& file, const std::string& old_run, const std::string&
   // The table again, with every row, and its attributes (strings: dims, units,
   // description, study_axes).
   std::vector<std::pair<std::string, std::string>> attributes;
-  for (const std::string& name : file.attribute_names(new_table)) {
-    attributes.emplace_back(name, file.read_string_attribute(new_table, name));
+  for (const std::string& name : file.attribute_names(described)) {
+    attributes.emplace_back(name, file.read_string_attribute(described, name));
   }
   file.remove(new_table);
   file.create_table(new_table, columns);
   file.append_rows(new_table, rows);
   for (const auto& [name, text] : attributes) file.write_string_attribute(new_table, name, text);
+  if (!new_fits) {  // the metrics' declarations, which the staged run derived from no fit
+    const std::string specs = "/" + std::string(kMetricSpecsTable);
+    if (file.exists(staging + specs)) file.remove(staging + specs);
+    if (file.exists(old_run + specs)) file.copy_from(file, old_run + specs, staging + specs);
+  }
 
   file.remove_attribute(staging, kRunDigestAttribute);  // the extension's alone
   file.write_int64_attribute(staging, kRunDigestAttribute,

@@ -124,17 +124,38 @@ def adaptive_cells(path, rule=None):
             rows_a, rows_b = side_a[mask_a].set_index("run"), side_b[mask_b].set_index("run")
             pairings.append((c, others, key, rows_a, rows_b,
                              int(rows_a["configuration"].iloc[0]),
-                             int(rows_b["configuration"].iloc[0]) if len(rows_b) else -1))
+                             int(rows_b["configuration"].iloc[0]) if len(rows_b) else -1,
+                             [(int(rows["configuration"].iloc[0]), int(rows["sweep_point"].iloc[0]))
+                              for rows in (rows_a, rows_b) if len(rows)]))
     count = study_cells if study_cells is not None else len(pairings) * len(rule["metrics"])
     alpha = 1.0 - rule["level"]
     cell_level = 1.0 - alpha / count if rule["correction"] == "bonferroni" and count else rule["level"]
-    held = [set(frame[frame["configuration"] == c]["run"]) for c in range(configurations)]
+    # The points each stored run holds, and the points each configuration's runs
+    # need from a first run on (as ggk decides: a look's new runs hold the points
+    # of the cells still open, and those in no cell).
+    held = [{} for _ in range(configurations)]
+    for conf, run, point in zip(frame["configuration"], frame["run"], frame["sweep_point"]):
+        held[int(conf)].setdefault(int(run), set()).add(int(point))
+    all_points = [sorted({p for points in held[c].values() for p in points})
+                  for c in range(configurations)]
+    segments = [[(0, all_points[c])] for c in range(configurations)]
+    cells_of_point = {}
+    for i, pairing in enumerate(pairings):
+        for point in pairing[7]:
+            cells_of_point.setdefault(point, []).append(i * len(rule["metrics"]))
+
+    def needed(conf, run):
+        return [points for first, points in segments[conf] if first <= run][-1]
+
+    def holds(conf, runs):
+        return all(r in held[conf] and set(needed(conf, r)) <= held[conf][r] for r in range(runs))
+
     looks = 1
     decided = {}  # cell index -> the cell as a complete look decided it
     while True:
-        complete = all(all(r in held[c] for r in range(wanted[c])) for c in judged)
+        complete = all(holds(c, wanted[c]) for c in judged)
         cells = []
-        for c, others, key, rows_a, rows_b, conf_a, conf_b in pairings:
+        for c, others, key, rows_a, rows_b, conf_a, conf_b, _ in pairings:
             for metric in rule["metrics"]:
                 if len(cells) in decided:
                     cells.append(decided[len(cells)])
@@ -191,6 +212,16 @@ def adaptive_cells(path, rule=None):
             if following == wanted:
                 done = True
             else:
+                for conf in range(configurations):
+                    if following[conf] == wanted[conf]:
+                        continue
+                    keep = [p for p in all_points[conf]
+                            if (conf, p) not in cells_of_point
+                            or any(cells[first + m]["state"] == "open"
+                                   for first in cells_of_point[(conf, p)]
+                                   for m in range(len(rule["metrics"])))]
+                    if keep != segments[conf][-1][1]:
+                        segments[conf].append((wanted[conf], keep))
                 wanted, looks = following, looks + 1
                 continue
         table = pd.DataFrame([{k: v for k, v in cell.items() if k != "_confs"} for cell in cells])

@@ -1,7 +1,8 @@
 """ggk_results.adaptive_cells (the Python twin of engine/store/adaptive_state.hpp)
 against `ggk info --adaptive --csv` on jobs/ci-adaptive.toml run by the binary:
-the same cells, states, runs and confidence-sequence bounds (to 1e-12), and a
-study grown by --resume that the twin reads partway."""
+the same cells, states, runs and confidence-sequence bounds (to 1e-12), a study
+grown by --resume that the twin reads partway, and one whose cells stop on
+their own (its later runs hold the open cells' fits alone)."""
 
 import io
 import shutil
@@ -9,6 +10,7 @@ import shutil
 import support
 
 support.require("numpy", "pandas", "h5py")
+import h5py  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
@@ -80,6 +82,19 @@ class AdaptiveCells(support.Scratch):
         self.assertEqual(shard.attrs["runs_wanted"][0], 0)  # shard 0's configuration
         self.assertEqual(shard.attrs["runs_wanted"][1], whole.attrs["runs_wanted"][1])
         self.assertEqual(shard["cs_low"].tolist(), whole["cs_low"].tolist()[1:])
+
+    def test_each_cell_stops_on_its_own(self):
+        # Kernels 2 and 8: kernels 2's cells decide first, the later runs hold
+        # kernels 8's fits alone; the twin replays the same looks on them.
+        output = self.dir / "k.h5"
+        self.run_job(output, "--set", "sweep.kernels=[2, 8]")
+        cells = self.assert_twins_agree(output)
+        self.assertTrue(cells.attrs["done"])
+        runs = {int(float(k)): n for k, n in cells.groupby("kernels")["runs"].max().items()}
+        self.assertLess(runs[2], runs[8])
+        with h5py.File(output, "r") as f:
+            last = sorted(r for r in f["maze/config_000"] if r.startswith("run_"))[-1]
+            self.assertEqual(len(f[f"maze/config_000/{last}/fit_metrics"]), 2)
 
 
 if __name__ == "__main__":

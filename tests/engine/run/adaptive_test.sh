@@ -17,6 +17,11 @@
 #              cells; a merge missing a shard, or with a gap in a shard's runs,
 #              is refused naming what lacks runs, and with --allow-partial its
 #              printed command finishes it equal
+#   cells      each cell stops on its own: with kernels 2 and 8 compared, the
+#              runs after a cell is decided hold only the open cells' fits;
+#              -j 1, interrupted and resumed, shards merged, and a study grown
+#              by kernels 2 or 8 (its runs extended, or only renumbered) equal
+#              the study run at once
 #   refusals   a rule the study cannot follow is refused before anything runs,
 #              exit 2, naming the key: an axis not swept, a value not on it, a
 #              batch above runs, a metric with no known range, a metric the
@@ -121,6 +126,42 @@ shards)
   s=$(status_of "$GGK" merge "$scratch/gap.h5" "$scratch/gap.shard-0-of-2.h5" "$scratch/gap.shard-1-of-2.h5")
   [ "$s" = 2 ] && grep -q "asks for runs of maze/config_000 that" "$scratch/err" ||
     fail "a merge with a gap: status $s: $(cat "$scratch/err")"
+  ;;
+cells)
+  sed -i 's/^kernels = .*/kernels = [2, 8]/' "$job"
+  "$GGK" run "$job" -q -j 2 -o "$scratch/ref.h5"
+  "$GGK" info --adaptive "$scratch/ref.h5" >"$scratch/cells"
+  grep -q "done: 4 of 4 cells decided" "$scratch/cells" || fail "cells: $(cat "$scratch/cells")"
+  read -r held whole < <(sed -n 's/.*holding \([0-9]*\) of their \([0-9]*\) fits.*/\1 \2/p' "$scratch/cells")
+  [ -n "$held" ] && [ "$held" -lt "$whole" ] || fail "no fit left out: $(cat "$scratch/cells")"
+  # Run 0 holds every point; the last run of config_000 only the open cell's two.
+  /usr/bin/python3 - "$scratch/ref.h5" "$held" <<'PY' || fail "the runs' fits are not the open cells'"
+import sys, h5py
+with h5py.File(sys.argv[1], "r") as f:
+    counts = {c: [len(f[f"maze/{c}/{r}/fit_metrics"]) for r in sorted(f[f"maze/{c}"]) if r.startswith("run_")]
+              for c in f["maze"] if c.startswith("config_")}
+assert counts["config_000"][0] == 4 and counts["config_000"][-1] == 2, counts
+assert sum(map(sum, counts.values())) == int(sys.argv[2]), counts
+PY
+  "$GGK" run "$job" -q -j 1 -o "$scratch/j1.h5"
+  "$GGK" diff "$scratch/ref.h5" "$scratch/j1.h5" >/dev/null || fail "-j 1 differs from -j 2"
+  out="$scratch/cut.h5"
+  s=$(interrupted_run "$out" run "$job" -j 1 -o "$out")
+  [ "$s" = 130 ] || fail "SIGINT: status $s: $(cat "$scratch/err")"
+  command=$(grep -o 'with `[^`]*`' "$scratch/err" | head -n 1 | sed 's/^with `//; s/`$//')
+  bash -c "$command" 2>"$scratch/resume-err" || fail "the printed command failed: $(cat "$scratch/resume-err")"
+  "$GGK" diff "$scratch/ref.h5" "$out" >/dev/null || fail "the resumed study differs"
+  for i in 0 1; do "$GGK" run "$job" -q -j 2 --shard $i/2 -o "$scratch/s.h5"; done
+  "$GGK" merge "$scratch/s.h5" --shards-of "$job" 2>/dev/null
+  "$GGK" diff "$scratch/ref.h5" "$scratch/s.h5" >/dev/null || fail "the merged shards differ"
+  # Grown by a kernel count: from [8], runs after kernels 2's cell decided hold
+  # 8's fits under other indices (only renumbered); from [2], new runs.
+  for k in 8 2; do
+    "$GGK" run "$job" -q -j 2 --set "sweep.kernels=[$k]" -o "$scratch/grown-$k.h5"
+    "$GGK" run "$job" -q -j 2 --resume -o "$scratch/grown-$k.h5"
+    "$GGK" diff "$scratch/ref.h5" "$scratch/grown-$k.h5" >/dev/null ||
+      fail "grown from kernels [$k]: $("$GGK" diff "$scratch/ref.h5" "$scratch/grown-$k.h5" | tail -n 3)"
+  done
   ;;
 refusals)
   expect_refusal() {  # what-to-find, ggk arguments...

@@ -11,7 +11,8 @@
 #   interrupt  SIGINT / SIGTERM to mpirun, SIGTERM to every rank: reported as an
 #          interruption (no rank blamed), no lock left, the printed command
 #          finishes the job identically
-#   adaptive   an adaptive study (jobs/ci-adaptive.toml) over 1 and 3 ranks equals
+#   adaptive   an adaptive study (jobs/ci-adaptive.toml, kernels 2 and 8: its later
+#          runs hold some points) over 1 and 3 ranks equals
 #          it in one process (its looks handed out rank by rank); SIGINT to mpirun
 #          mid-study, then the printed command, equals it too; so do its two
 #          shards by configurations (--shard I/2), each over 3 ranks, merged;
@@ -199,8 +200,14 @@ adaptive)
   mkdir "$scratch/jobs" && cp -r "$jobs_dir/maps" "$scratch/jobs/"
   job=$scratch/jobs/ci-adaptive.toml
   cp "$jobs_dir/ci-adaptive.toml" "$job"
-  sets=(--set maze.series=30)  # ~3 s of runs: the interrupt lands mid-study
+  # ~3 s of runs: the interrupt lands mid-study. Kernels 2 and 8: kernels 2's
+  # cells decide first, so later runs hold only kernels 8's fits (new runs of
+  # some points, sent to the ranks with them).
+  sets=(--set maze.series=30 --set 'sweep.kernels=[2, 8]')
   reference "$job" "$scratch/single.h5" "${sets[@]}"
+  read -r held whole < <("$GGK" info --adaptive "$scratch/single.h5" |
+    sed -n 's/.*holding \([0-9]*\) of their \([0-9]*\) fits.*/\1 \2/p')
+  [ -n "$held" ] && [ "$held" -lt "$whole" ] || fail "no fit left out: $held of $whole"
   for n in 1 3; do
     # shellcheck disable=SC2046
     "${launcher[@]}" $(np $n) "$GGK" run "$job" -j 1 "${sets[@]}" -o "$scratch/np$n.h5" \

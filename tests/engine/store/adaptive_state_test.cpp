@@ -2,6 +2,7 @@
 // contents: the looks replayed, each cell's decision, and what is refused.
 #include "engine/store/adaptive_state.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <optional>
@@ -208,6 +209,144 @@ TEST(AdaptiveState, AShardGoesThroughItsConfigurationsLooksAsTheWholeStudyDoes) 
   }
   // A scope naming a configuration the study lacks (a damaged shard header).
   EXPECT_THROW(adaptive_state(contents_of(2, 5, a, b), rule_of(5), 2, 40, {{2}, 2}), UsageError);
+}
+
+// One configuration's points: ggk and ogk at kernels 2 and 8 (indices 0..3 as
+// `index` gives them) and pvf at 8 (index 4, in no cell). Kernels 2: ggk 1,
+// ogk 0 (decided at once); kernels 8: alternating differences (never decided).
+struct CellPoint {
+  std::string basis, kernels;
+  std::int32_t index;
+};
+std::vector<CellPoint> cell_points(bool grown) {
+  if (!grown) return {{"ggk", "8", 0}, {"ogk", "8", 1}, {"pvf", "8", 2}};  // before kernels 2
+  return {{"ggk", "2", 0}, {"ggk", "8", 1}, {"ogk", "2", 2}, {"ogk", "8", 3}, {"pvf", "8", 4}};
+}
+FitRow cell_fit(const CellPoint& point, std::int64_t run) {
+  FitRow row;
+  row.run = run;
+  row.point = point.index;
+  row.key = {point.basis, point.kernels};
+  const bool ggk = point.basis == "ggk";
+  const double value = point.kernels == "2"   ? (ggk ? 1.0 : 0.0)
+                       : point.basis == "pvf" ? 0.5
+                                              : ((run % 2 == 0) == ggk ? 1.0 : 0.0);
+  row.values = {value, 0.01};
+  return row;
+}
+ResultsContents cell_contents() {
+  ResultsContents contents;
+  contents.axis_names = {"basis", "kernels"};
+  contents.metric_names = {"success_rate", "fit_seconds"};
+  contents.metric_specs = {fraction_metric("success_rate", ""), fit_seconds_spec()};
+  return contents;
+}
+// Runs the study as the runner does: each look's new runs stored with the
+// points they need, until done.
+AdaptiveState run_cells(ResultsContents& contents, const AdaptiveRule& rule, std::int32_t runs) {
+  for (int look = 0; look < 100; ++look) {
+    const AdaptiveState state = adaptive_state(contents, rule, 1, runs);
+    if (state.needs.empty()) return state;
+    for (const RunNeed& need : state.needs) {
+      EXPECT_TRUE(need.new_run);
+      for (const CellPoint& point : cell_points(true)) {
+        if (need.points.empty() ||
+            std::count(need.points.begin(), need.points.end(), point.index) > 0) {
+          contents.fits.push_back(cell_fit(point, need.run));
+        }
+      }
+    }
+  }
+  ADD_FAILURE() << "no end after 100 looks";
+  return {};
+}
+
+TEST(AdaptiveState, ADecidedCellsFitsAreLeftOutOfTheRunsAfterIt) {
+  ResultsContents contents = cell_contents();
+  AdaptiveRule rule = rule_of(5);
+  const AdaptiveState state = run_cells(contents, rule, 30);
+  ASSERT_TRUE(state.done);
+  ASSERT_EQ(state.cells.size(), 2u);
+  EXPECT_EQ(state.cells[0].state, CellState::kPositive);  // kernels 2
+  EXPECT_EQ(state.cells[1].state, CellState::kCapped);    // kernels 8
+  const std::int64_t decided_at = state.cells[0].runs;
+  EXPECT_LT(decided_at, 30);
+  // Every point up to the look that decided kernels 2, then kernels 8's and pvf's.
+  ASSERT_EQ(state.run_points[0].size(), 2u);
+  EXPECT_EQ(state.run_points[0][0].first_run, 0);
+  EXPECT_EQ(state.run_points[0][0].points, (std::vector<std::int32_t>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(state.run_points[0][1].first_run, decided_at);
+  EXPECT_EQ(state.run_points[0][1].points, (std::vector<std::int32_t>{1, 3, 4}));
+  for (const FitRow& fit : contents.fits) {
+    EXPECT_TRUE(fit.run < decided_at || fit.key[1] == "8") << fit.run << " " << fit.key[0];
+  }
+  EXPECT_EQ(state.fits_wanted, static_cast<std::int64_t>(contents.fits.size()));
+  EXPECT_EQ(state.fits_whole, 30 * 5);
+  EXPECT_EQ(state.fits_wanted, decided_at * 5 + (30 - decided_at) * 3);
+  // The same file replayed: done, nothing needed (a resume computes nothing).
+  EXPECT_TRUE(adaptive_state(contents, rule, 1, 30).needs.empty());
+  // A run after the decision missing kernels 8's ogk fit: lacking it alone.
+  ResultsContents lacking = contents;
+  std::erase_if(lacking.fits, [&](const FitRow& fit) {
+    return fit.run == decided_at && fit.key == std::vector<std::string>{"ogk", "8"};
+  });
+  const AdaptiveState extended = adaptive_state(lacking, rule, 1, 30);
+  EXPECT_FALSE(extended.done);
+  ASSERT_EQ(extended.needs.size(), 1u);
+  EXPECT_FALSE(extended.needs[0].new_run);
+  EXPECT_EQ(extended.needs[0].run, decided_at);
+  EXPECT_EQ(extended.needs[0].points, (std::vector<std::int32_t>{3}));
+}
+
+TEST(AdaptiveState, AStudyGrownByAFitValueExtendsOrRenumbersItsRuns) {
+  // The study of kernels 8 alone (indices 0..2) to its end, then grown by
+  // kernels 2: the study's points are the planned ones.
+  ResultsContents planned;
+  planned.axis_names = {"basis", "kernels"};
+  for (const CellPoint& point : cell_points(true)) planned.fits.push_back(cell_fit(point, 0));
+  ResultsContents before = cell_contents();
+  for (std::int64_t r = 0; r < 30; ++r) {
+    for (const CellPoint& point : cell_points(false)) before.fits.push_back(cell_fit(point, r));
+  }
+  const AdaptiveRule rule = rule_of(5);
+  ResultsContents whole = cell_contents();
+  const AdaptiveState reference = run_cells(whole, rule, 30);
+  const std::int64_t decided_at = reference.cells[0].runs;
+  // Look 1 lacks kernels 2's points in runs 0..4: extensions by indices 0 and 2.
+  const AdaptiveState grown = adaptive_state(before, rule, 1, 30, {}, &planned);
+  EXPECT_FALSE(grown.done);
+  ASSERT_EQ(grown.needs.size(), 5u);
+  for (const RunNeed& need : grown.needs) {
+    EXPECT_FALSE(need.new_run);
+    EXPECT_EQ(need.points, (std::vector<std::int32_t>{0, 2}));
+  }
+  // Extended look by look: the runs after kernels 2 decided only renumbered.
+  ResultsContents growing = before;
+  std::int32_t renumbered = 0;
+  for (int look = 0; look < 100; ++look) {
+    const AdaptiveState state = adaptive_state(growing, rule, 1, 30, {}, &planned);
+    if (state.needs.empty()) break;
+    for (const RunNeed& need : state.needs) {
+      ASSERT_FALSE(need.new_run);
+      if (need.points.empty()) ++renumbered;
+      std::erase_if(growing.fits, [&](const FitRow& fit) { return fit.run == need.run; });
+      for (const CellPoint& point : cell_points(true)) {
+        if (point.kernels == "8" ||
+            std::count(need.points.begin(), need.points.end(), point.index) > 0) {
+          growing.fits.push_back(cell_fit(point, need.run));
+        }
+      }
+    }
+  }
+  EXPECT_EQ(renumbered, 30 - decided_at);
+  const AdaptiveState after = adaptive_state(growing, rule, 1, 30, {}, &planned);
+  EXPECT_TRUE(after.done);
+  EXPECT_EQ(after.run_points, reference.run_points);
+  ASSERT_EQ(after.cells.size(), reference.cells.size());
+  for (std::size_t i = 0; i < after.cells.size(); ++i) {
+    EXPECT_EQ(after.cells[i].state, reference.cells[i].state);
+    EXPECT_EQ(after.cells[i].runs, reference.cells[i].runs);
+  }
 }
 
 // Planned fits of three configurations (slip 0, 0.1, 0.2), ggk and ogk each.
