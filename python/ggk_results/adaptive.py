@@ -57,7 +57,8 @@ def adaptive_cells(path, rule=None):
     """The cells of the adaptive study at `path` as a DataFrame: compare, the other
     axes, metric, state (+, -, narrow, open, capped, failed), runs, difference
     (the mean), cs_low, cs_high; its attrs hold looks, done, runs_wanted (per
-    configuration) and cell_level.
+    configuration), cell_level, and fits_wanted / fits_whole (the fits the runs
+    hold, a decided cell's left out of the runs after it, and those of whole runs).
 
     `rule` (a dict as adaptive_rule returns, keys left out taking the file's or
     the defaults) replays another rule on the file's runs: what it would have
@@ -225,5 +226,10 @@ def adaptive_cells(path, rule=None):
                 wanted, looks = following, looks + 1
                 continue
         table = pd.DataFrame([{k: v for k, v in cell.items() if k != "_confs"} for cell in cells])
-        table.attrs.update(looks=looks, done=done, runs_wanted=wanted, cell_level=cell_level)
+        # The fits the look's runs hold (a decided cell's left out of the runs
+        # after it) and those of whole runs, as `ggk info --adaptive` counts them.
+        fits_wanted = sum(len(needed(c, r)) for c in judged for r in range(wanted[c]))
+        fits_whole = sum(len(all_points[c]) * wanted[c] for c in judged)
+        table.attrs.update(looks=looks, done=done, runs_wanted=wanted, cell_level=cell_level,
+                           fits_wanted=fits_wanted, fits_whole=fits_whole)
         return table

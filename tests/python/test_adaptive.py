@@ -5,6 +5,7 @@ grown by --resume that the twin reads partway, and one whose cells stop on
 their own (its later runs hold the open cells' fits alone)."""
 
 import io
+import re
 import shutil
 
 import support
@@ -92,6 +93,12 @@ class AdaptiveCells(support.Scratch):
         self.assertTrue(cells.attrs["done"])
         runs = {int(float(k)): n for k, n in cells.groupby("kernels")["runs"].max().items()}
         self.assertLess(runs[2], runs[8])
+        info = support.run_ggk("info", "--adaptive", output).stdout
+        held = re.search(r"holding (\d+) of their (\d+) fits", info)
+        self.assertIsNotNone(held, info)
+        self.assertEqual((cells.attrs["fits_wanted"], cells.attrs["fits_whole"]),
+                         (int(held.group(1)), int(held.group(2))))
+        self.assertLess(cells.attrs["fits_wanted"], cells.attrs["fits_whole"])
         with h5py.File(output, "r") as f:
             last = sorted(r for r in f["maze/config_000"] if r.startswith("run_"))[-1]
             self.assertEqual(len(f[f"maze/config_000/{last}/fit_metrics"]), 2)
