@@ -46,6 +46,16 @@ interrupted_run() {
   wait $pid || s=$?
   echo $s
 }
+# ggk run $job -j 1 -o OUT interrupted once OUT exists, then resumed with the
+# command it printed: equal to REF.
+interrupted_and_resumed() {
+  local out=$1 ref=$2 s command
+  s=$(interrupted_run "$out" run "$job" -j 1 -o "$out")
+  [ "$s" = 130 ] || fail "SIGINT: status $s: $(cat "$scratch/err")"
+  command=$(grep -o 'with `[^`]*`' "$scratch/err" | head -n 1 | sed 's/^with `//; s/`$//')
+  bash -c "$command" 2>"$scratch/resume-err" || fail "the printed command failed: $(cat "$scratch/resume-err")"
+  "$GGK" diff "$ref" "$out" >/dev/null || fail "the resumed study differs"
+}
 
 mkdir -p "$scratch/maps"
 cp "$GGK_SOURCE_DIR/jobs/maps/four-rooms.txt" "$scratch/maps/"
@@ -68,12 +78,7 @@ looks)
   ;;
 resume)
   "$GGK" run "$job" -q -j 2 -o "$scratch/ref.h5"
-  out="$scratch/cut.h5"
-  s=$(interrupted_run "$out" run "$job" -j 1 -o "$out")
-  [ "$s" = 130 ] || fail "SIGINT: status $s: $(cat "$scratch/err")"
-  command=$(grep -o 'with `[^`]*`' "$scratch/err" | head -n 1 | sed 's/^with `//; s/`$//')
-  bash -c "$command" 2>"$scratch/resume-err" || fail "the printed command failed: $(cat "$scratch/resume-err")"
-  "$GGK" diff "$scratch/ref.h5" "$out" >/dev/null || fail "the resumed study differs"
+  interrupted_and_resumed "$scratch/cut.h5" "$scratch/ref.h5"
   # Capped at 10 runs: every cell capped or decided within 10; then grown.
   "$GGK" run "$job" -q --set runs=10 -o "$scratch/grown.h5"
   "$GGK" info --adaptive "$scratch/grown.h5" | grep "capped" >/dev/null || fail "runs = 10 capped nothing"
@@ -145,12 +150,7 @@ assert sum(map(sum, counts.values())) == int(sys.argv[2]), counts
 PY
   "$GGK" run "$job" -q -j 1 -o "$scratch/j1.h5"
   "$GGK" diff "$scratch/ref.h5" "$scratch/j1.h5" >/dev/null || fail "-j 1 differs from -j 2"
-  out="$scratch/cut.h5"
-  s=$(interrupted_run "$out" run "$job" -j 1 -o "$out")
-  [ "$s" = 130 ] || fail "SIGINT: status $s: $(cat "$scratch/err")"
-  command=$(grep -o 'with `[^`]*`' "$scratch/err" | head -n 1 | sed 's/^with `//; s/`$//')
-  bash -c "$command" 2>"$scratch/resume-err" || fail "the printed command failed: $(cat "$scratch/resume-err")"
-  "$GGK" diff "$scratch/ref.h5" "$out" >/dev/null || fail "the resumed study differs"
+  interrupted_and_resumed "$scratch/cut.h5" "$scratch/ref.h5"
   for i in 0 1; do "$GGK" run "$job" -q -j 2 --shard $i/2 -o "$scratch/s.h5"; done
   "$GGK" merge "$scratch/s.h5" --shards-of "$job" 2>/dev/null
   "$GGK" diff "$scratch/ref.h5" "$scratch/s.h5" >/dev/null || fail "the merged shards differ"
