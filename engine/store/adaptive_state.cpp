@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <iterator>
 #include <limits>
@@ -101,13 +100,8 @@ std::vector<std::string> point_identity(const FitRow& fit) {
   for (const std::string& cell : fit.key) {
     char* end = nullptr;
     const double value = std::strtod(cell.c_str(), &end);
-    if (cell.empty() || *end != '\0') {
-      identity.push_back(cell);
-      continue;
-    }
-    char text[40];
-    std::snprintf(text, sizeof text, "%.17g", value);
-    identity.emplace_back(text);
+    const bool number = !cell.empty() && *end == '\0';
+    identity.push_back(number ? canonical_number(value) : cell);
   }
   return identity;
 }
@@ -333,6 +327,17 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
     while (at != segments.begin() && std::prev(at)->first_run > run) --at;
     return std::prev(at)->points;
   };
+  // The points run `run` of configuration c needs and lacks; nullopt: no such run.
+  const auto lacking_of = [&](std::size_t c,
+                              std::int64_t run) -> std::optional<std::vector<std::int32_t>> {
+    const auto held = stored[c].find(run);
+    if (held == stored[c].end()) return std::nullopt;
+    std::vector<std::int32_t> lacking;
+    for (const std::int32_t p : needed_of(c, run)) {
+      if (held->second.count(p) == 0) lacking.push_back(p);
+    }
+    return lacking;
+  };
   // The current look's runs still to compute, and its fits counted.
   const auto fill_needs = [&] {
     state.needs.clear();
@@ -343,18 +348,12 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
         const std::vector<std::int32_t>& needed = needed_of(c, run);
         state.fits_wanted += static_cast<std::int64_t>(needed.size());
         state.fits_whole += static_cast<std::int64_t>(all_points[c].size());
-        const auto held = stored[c].find(run);
-        if (held == stored[c].end()) {
+        std::optional<std::vector<std::int32_t>> lacking = lacking_of(c, run);
+        if (!lacking) {
           state.needs.push_back({static_cast<std::int32_t>(c), run, true,
                                  needed == all_points[c] ? std::vector<std::int32_t>{} : needed});
-          continue;
-        }
-        std::vector<std::int32_t> lacking;
-        for (const std::int32_t p : needed) {
-          if (held->second.count(p) == 0) lacking.push_back(p);
-        }
-        if (!lacking.empty() || renumbered[c].count(run) > 0) {
-          state.needs.push_back({static_cast<std::int32_t>(c), run, false, std::move(lacking)});
+        } else if (!lacking->empty() || renumbered[c].count(run) > 0) {
+          state.needs.push_back({static_cast<std::int32_t>(c), run, false, std::move(*lacking)});
         }
       }
     }
@@ -394,11 +393,8 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
   // Whether a configuration holds runs 0 .. runs - 1, each with the points it needs.
   const auto holds = [&](std::size_t configuration, std::int32_t runs) {
     for (std::int32_t r = 0; r < runs; ++r) {
-      const auto held = stored[configuration].find(r);
-      if (held == stored[configuration].end()) return false;
-      for (const std::int32_t p : needed_of(configuration, r)) {
-        if (held->second.count(p) == 0) return false;
-      }
+      const std::optional<std::vector<std::int32_t>> lacking = lacking_of(configuration, r);
+      if (!lacking || !lacking->empty()) return false;
     }
     return true;
   };
@@ -409,7 +405,7 @@ AdaptiveState adaptive_state(const ResultsContents& contents, const AdaptiveRule
     for (const std::int32_t p : all_points[configuration]) {
       const auto at = cells_of_point.find((static_cast<std::int64_t>(configuration) << 32) + p);
       bool open = at == cells_of_point.end();
-      for (std::size_t i = 0; !open && at != cells_of_point.end() && i < at->second.size(); ++i) {
+      for (std::size_t i = 0; !open && i < at->second.size(); ++i) {
         for (std::size_t m = 0; m < compared.size(); ++m) {
           if (state.cells[at->second[i] + m].state == CellState::kOpen) open = true;
         }
