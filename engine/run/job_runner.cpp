@@ -145,11 +145,15 @@ void print_fit_warnings(const RunSummary& summary) {
 }
 
 void print_run_summary(const JobSpec& job, const RunSummary& s) {
+  const std::string pieces = s.runs_in_pieces > 0 ? " (" + std::to_string(s.runs_in_pieces) +
+                                                        " with their fits spread over ranks)"
+                                                  : std::string();
   std::fprintf(stderr,
-               "ggk: %s: %d runs computed, %d already complete, %lld fits (%lld failed) in "
+               "ggk: %s: %d runs computed%s, %d already complete, %lld fits (%lld failed) in "
                "%.1f s\nggk: results in %s\n",
-               job.name.c_str(), s.runs_computed, s.runs_skipped, static_cast<long long>(s.fits),
-               static_cast<long long>(s.failed_fits), s.seconds, s.output.string().c_str());
+               job.name.c_str(), s.runs_computed, pieces.c_str(), s.runs_skipped,
+               static_cast<long long>(s.fits), static_cast<long long>(s.failed_fits), s.seconds,
+               s.output.string().c_str());
   for (const std::string& line : s.adaptive) std::fprintf(stderr, "ggk: %s\n", line.c_str());
 }
 

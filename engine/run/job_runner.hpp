@@ -62,6 +62,9 @@ struct RunSummary {
   std::filesystem::path output;
   std::int32_t runs_computed = 0;
   std::int32_t runs_skipped = 0;  // already complete (--resume)
+  // Of runs_computed, those whose fits were spread over several MPI ranks
+  // (run_pieces.hpp).
+  std::int32_t runs_in_pieces = 0;
   std::int64_t fits = 0;
   std::int64_t failed_fits = 0;  // invalid or solver_failed
   double seconds = 0.0;

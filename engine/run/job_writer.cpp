@@ -71,6 +71,16 @@ void JobWriter::commit_image(std::int32_t configuration, std::int32_t run,
       });
 }
 
+void JobWriter::commit_pieces(std::int32_t configuration, std::int32_t run,
+                              std::vector<RunPiece> pieces) {
+  writer_.submit([this, configuration, run, pieces = std::move(pieces)](Hdf5File& file) {
+    const RunConfiguration& of = study_.configurations.at(configuration);
+    write_run_pieces(file, of.job, run, pieces, expand_points(of));
+    target_.publish(file);
+    committed();
+  });
+}
+
 void JobWriter::finish() {
   writer_.wait();
   progress_.reset();  // its final line before the summary's

@@ -29,6 +29,7 @@
 #include "engine/run/progress.hpp"
 #include "engine/run/resume_command.hpp"
 #include "engine/run/stop_signals.hpp"
+#include "engine/store/run_extension.hpp"
 #include "engine/store/store_writer.hpp"
 #include "engine/tasks/run_record.hpp"
 
@@ -52,6 +53,10 @@ class JobWriter {
   void commit_image(std::int32_t configuration, std::int32_t run,
                     std::shared_ptr<const std::vector<unsigned char>> bytes, std::size_t offset,
                     bool extension);
+
+  // A run computed in pieces on several ranks (run_pieces.hpp), every piece come:
+  // written whole, as one commit (store/run_extension.hpp: write_run_pieces).
+  void commit_pieces(std::int32_t configuration, std::int32_t run, std::vector<RunPiece> pieces);
 
   void wait() { writer_.wait(); }
   // Runs `read` (taking the Hdf5File) on the writer thread after every queued

@@ -19,6 +19,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
 #include <thread>
 #include <utility>
@@ -31,8 +32,10 @@
 #include "engine/run/job_writer.hpp"
 #include "engine/run/memory_check.hpp"
 #include "engine/run/open_results.hpp"
+#include "engine/run/run_pieces.hpp"
 #include "engine/run/stop_signals.hpp"
 #include "engine/store/process_state.hpp"
+#include "engine/store/run_extension.hpp"
 #include "engine/store/run_store.hpp"
 #include "engine/tasks/fit_count.hpp"
 #include "engine/tasks/task_list.hpp"
@@ -287,7 +290,10 @@ class Coordinator {
         pending_(looks_ ? std::deque<WorkUnit>()
                         : std::deque<WorkUnit>(opened.pending.begin(), opened.pending.end())),
         total_(static_cast<std::int32_t>(pending_.size())),
-        writer_(study, options.run, std::move(opened), total_, StopSignals::Mode::kRecord) {}
+        writer_(study, options.run, std::move(opened), total_, StopSignals::Mode::kRecord) {
+    const std::deque<WorkUnit> opened_units = std::exchange(pending_, {});
+    queue(std::vector<WorkUnit>(opened_units.begin(), opened_units.end()));
+  }
 
   // Returns the exit status; fills summary on success.
   int run(RunSummary& summary);
@@ -295,6 +301,36 @@ class Coordinator {
   void release_stopped_workers();
 
  private:
+  // Queues `units`, those of their last round over the ranks in pieces
+  // (run_pieces.hpp), whose run is written once every piece has come (deliver).
+  void queue(std::span<const WorkUnit> units) {
+    PiecedUnits pieced = split_tail_runs(study_, units, size_);
+    {
+      std::lock_guard lock(mutex_);
+      for (const auto& [run, count] : pieced.pieces) assemblies_[run].expected = count;
+      runs_in_pieces_ += static_cast<std::int32_t>(pieced.pieces.size());
+      pending_.insert(pending_.end(), pieced.units.begin(), pieced.units.end());
+    }
+    more_runs_.notify_all();
+  }
+  // A piece of a run computed in pieces, from any rank: the run is committed with
+  // its last piece. False when the run is not computed in pieces.
+  bool deliver(std::int32_t configuration, std::int32_t run, RunPiece piece) {
+    std::vector<RunPiece> whole;
+    {
+      std::lock_guard lock(mutex_);
+      const auto found = assemblies_.find({configuration, run});
+      if (found == assemblies_.end()) return false;
+      found->second.pieces.push_back(std::move(piece));
+      if (static_cast<std::int32_t>(found->second.pieces.size()) < found->second.expected) {
+        return true;
+      }
+      whole = std::move(found->second.pieces);
+      assemblies_.erase(found);
+    }
+    writer_.commit_pieces(configuration, run, std::move(whole));
+    return true;
+  }
   // The next queued unit, none once the job failed or stops; mutex_ held.
   std::optional<WorkUnit> pop_run_locked() {
     if (pending_.empty() || !failure_.empty() || stopping_) return std::nullopt;
@@ -372,9 +408,17 @@ class Coordinator {
   const std::int32_t skipped_;
 
   std::optional<AdaptiveLooks> looks_;  // an adaptive study's looks (main thread only)
-  std::mutex mutex_;                    // pending_, failure_, stopping_, looks_done_
+  std::mutex mutex_;                    // pending_, assemblies_, failure_, stopping_, looks_done_
   std::condition_variable more_runs_;   // pending_ refilled, or no run will come
   std::deque<WorkUnit> pending_;
+  // The runs computed in pieces not yet committed: (configuration, run) -> the
+  // pieces come so far and how many it has.
+  struct Assembly {
+    std::int32_t expected = 0;
+    std::vector<RunPiece> pieces;
+  };
+  std::map<std::pair<std::int32_t, std::int32_t>, Assembly> assemblies_;
+  std::int32_t runs_in_pieces_ = 0;
   std::string failure_;
   bool stopping_ = false;
   bool looks_done_ = false;  // an adaptive study's rule asks for no more runs
@@ -432,7 +476,9 @@ void Coordinator::compute_locally() {
     try {
       auto record = std::make_shared<const RunRecord>(compute_unit(study_, *run));
       failed_fits_.fetch_add(failed_fits_of(*record));
-      writer_.commit(std::move(record));
+      if (!deliver(run->configuration, run->run, {record, nullptr, 0, record->extension})) {
+        writer_.commit(std::move(record));
+      }
     } catch (const std::exception& e) {
       fail(unit_words(study_, *run) + " on rank 0: " + e.what());
     }
@@ -479,12 +525,11 @@ void Coordinator::advance_look_when_idle() {
   writer_.wait();  // the look's runs are in the file the rule decides on
   const std::vector<WorkUnit> look = looks_->next_look(writer_);
   total_ += static_cast<std::int32_t>(look.size());
-  {
+  if (look.empty()) {
     std::lock_guard lock(mutex_);
-    if (look.empty()) looks_done_ = true;
-    pending_.insert(pending_.end(), look.begin(), look.end());
+    looks_done_ = true;
   }
-  more_runs_.notify_all();
+  queue(look);
   for (const int rank : std::exchange(waiting_, {})) assign_or_stop(rank);
 }
 
@@ -524,9 +569,13 @@ void Coordinator::receive(const MPI_Status& status) {
       std::memcpy(&header, bytes->data(), sizeof header);
       failed_fits_.fetch_add(header.failed_fits);
       count_worker_fits(rank, header.fits_done);
-      writer_.commit_image(static_cast<std::int32_t>(header.configuration),
-                           static_cast<std::int32_t>(header.run), std::move(bytes),
-                           sizeof(ResultHeader), header.extension != 0);
+      const auto configuration = static_cast<std::int32_t>(header.configuration);
+      const auto run = static_cast<std::int32_t>(header.run);
+      if (!deliver(configuration, run,
+                   {nullptr, bytes, sizeof(ResultHeader), header.extension != 0})) {
+        writer_.commit_image(configuration, run, std::move(bytes), sizeof(ResultHeader),
+                             header.extension != 0);
+      }
       held_[rank].run = -1;
       assign_or_stop(rank);
       return;
@@ -741,6 +790,7 @@ int Coordinator::run(RunSummary& summary) {
 
   summary.output = writer_.target().output();
   summary.runs_computed = total_;
+  summary.runs_in_pieces = runs_in_pieces_;
   summary.runs_skipped =
       looks_ ? static_cast<std::int32_t>(looks_->runs_used() - total_) : skipped_;
   summary.fits = static_cast<std::int64_t>(total_) * fits_per_run;

@@ -150,4 +150,39 @@ void extend_run_from_image(Hdf5File& file, const JobSpec& job, std::int32_t run,
   commit_staged_run(file, location, run);
 }
 
+void write_run_pieces(Hdf5File& file, const JobSpec& job, std::int32_t run,
+                      std::span<const RunPiece> pieces, std::span<const SweepPoint> points) {
+  const std::string what = "run " + std::to_string(run) + ", computed in pieces: ";
+  const auto first = std::find_if(pieces.begin(), pieces.end(),
+                                  [](const RunPiece& piece) { return !piece.extension; });
+  if (first == pieces.end() ||
+      std::count_if(pieces.begin(), pieces.end(),
+                    [](const RunPiece& piece) { return !piece.extension; }) != 1) {
+    throw std::runtime_error(what + "not one first piece and its extensions");
+  }
+  Hdf5File assembled = Hdf5File::create_in_memory("run_" + std::to_string(run) + "_pieces");
+  assembled.set_gzip_level(job.output.compression);
+  auto add = [&](const RunPiece& piece) {
+    if (piece.record != nullptr && piece.record->run != run) {
+      throw std::runtime_error(what + "a piece of run " + std::to_string(piece.record->run));
+    }
+    if (piece.record != nullptr) {
+      piece.extension ? extend_run(assembled, job, *piece.record, points)
+                      : write_run(assembled, job, *piece.record);
+    } else if (piece.bytes != nullptr && piece.offset <= piece.bytes->size()) {
+      const std::span<const unsigned char> image(piece.bytes->data() + piece.offset,
+                                                 piece.bytes->size() - piece.offset);
+      piece.extension ? extend_run_from_image(assembled, job, run, image, points)
+                      : write_run_image(assembled, job, run, image);
+    } else {
+      throw std::runtime_error(what + "a piece holds neither a run nor its image");
+    }
+  };
+  add(*first);
+  for (const RunPiece& piece : pieces) {
+    if (piece.extension) add(piece);
+  }
+  write_run_image(file, job, run, assembled.file_image());
+}
+
 }  // namespace ggk::engine

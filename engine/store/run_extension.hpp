@@ -24,6 +24,7 @@
 // Makes HDF5 calls: call on the StoreWriter's thread only.
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -53,5 +54,25 @@ void extend_run(Hdf5File& file, const JobSpec& job, const RunRecord& extension,
 void extend_run_from_image(Hdf5File& file, const JobSpec& job, std::int32_t run,
                            std::span<const unsigned char> image,
                            std::span<const SweepPoint> points);
+
+// One piece of a run whose fits were computed on several MPI ranks
+// (run/run_pieces.hpp): the run with some of its points, computed here
+// (`record`) or on another rank (run_image's bytes: bytes[offset..];
+// `extension` as the record's flag would say).
+struct RunPiece {
+  std::shared_ptr<const RunRecord> record;
+  std::shared_ptr<const std::vector<unsigned char>> bytes;
+  std::size_t offset = 0;
+  bool extension = false;
+};
+
+// Writes a run computed in pieces as write_run writes it whole: the first piece
+// (the one that is no extension) and every other one extending it, assembled in
+// memory, then committed to `file` at once (write_run_image), so that the file
+// never holds a part of the run. `points`: every point of the job. Throws
+// std::runtime_error when the pieces are not one first piece and its extensions
+// of `run`, or when an extension does not fit (as extend_run).
+void write_run_pieces(Hdf5File& file, const JobSpec& job, std::int32_t run,
+                      std::span<const RunPiece> pieces, std::span<const SweepPoint> points);
 
 }  // namespace ggk::engine

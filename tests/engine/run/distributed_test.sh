@@ -2,7 +2,8 @@
 # The distributed engine end to end, through the real ggk binary: one case per
 # call (ctest registers each, see tests/CMakeLists.txt).
 #   ranks  mpiexec -n 1..4 writes the file a single process writes (ggk diff), and
-#          its progress counts the fits of every rank
+#          its progress counts the fits of every rank; on 4 ranks the last round's
+#          runs are computed in pieces (their fits spread over the ranks)
 #   shards --runs A:B shards merged equal the whole job; merge refuses foreign and
 #          overlapping shards, reports gaps, and --allow-partial's printed
 #          command completes (with --set overrides too)
@@ -80,6 +81,11 @@ ranks)
       fail "-n $n: the last progress line does not count every fit: $last"
     "$GGK" diff "$scratch/single.h5" "$scratch/np$n.h5" || fail "-n $n differs from one process"
   done
+  # 6 runs on 4 ranks: the last round's 2 runs spread their fits over the ranks
+  # (run_pieces.hpp), on 3 ranks none; equal all the same (above).
+  grep -q "6 runs computed (2 with their fits spread over ranks)" "$scratch/np4.log" ||
+    fail "-n 4: the last round's runs were not spread over the ranks: $(grep 'runs computed' "$scratch/np4.log")"
+  grep -q "6 runs computed, " "$scratch/np3.log" || fail "-n 3: runs spread though they fill their rounds"
   # Threads inside ranks too.
   "${launcher[@]}" $(np 2) "$GGK" run "$jobs_dir/ci-khepera.toml" -j 2 -q -o "$scratch/k2.h5"
   reference "$jobs_dir/ci-khepera.toml" "$scratch/k1.h5"
