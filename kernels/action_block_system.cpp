@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "kernels/blas_runtime.hpp"
+#include "kernels/flop_count.hpp"
 
 namespace ggk::kernels {
 
@@ -133,6 +134,9 @@ ActionBlockFixed::ActionBlockFixed(const SparseRowMatrix& features, bool copy_ro
     const auto u = gather(rows, false, a, u_buffer);
     Eigen::MatrixXd lower = Eigen::MatrixXd::Zero(p_, p_);
     lower.selfadjointView<Eigen::Lower>().rankUpdate(u.transpose());
+    // The rank update and the right-hand side's product.
+    const auto p = static_cast<double>(p_);
+    count_flops(static_cast<double>(u.rows()) * (p * (p + 1.0) + 2.0 * p));
     start_blocks_.emplace_back(lower.selfadjointView<Eigen::Lower>());
     start_rhs_.segment(a * p_, p_).noalias() =
         u.transpose() * weighted_rewards(rows, reward_buffer);
@@ -349,6 +353,7 @@ void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>&
         static_cast<std::int64_t>(sign) * static_cast<std::int64_t>(rows.size());
     if (cross_derived && !brm) continue;  // LSTD-Q: the group's C is all it adds
     const auto v = gather(rows, true, y, scratch.v);
+    const double n = static_cast<double>(rows.size()), p = static_cast<double>(p_);
     // The indicator of v's non-zeros, formed once for the counts that need it.
     bool v_support_formed = false;
     const auto v_support = [&] {
@@ -365,24 +370,29 @@ void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>&
       } else {
         blocks.cross[g].noalias() -= u.transpose() * v;
       }
+      if (blocks.group_sizes[g] != 0) count_flops(2.0 * n * p * p);
       // The counts: the same products on the indicators of the non-zeros (exact
       // integers in doubles).
       if (block_supports) {
         const auto u_support = nonzero_indicator(u, scratch.u_support);
         blocks.cross_support[g].noalias() += sign * (u_support.transpose() * v_support());
+        count_flops(2.0 * n * p * p);
       }
     }
     if (block_supports && brm && !next_derived) {
       blocks.next_support[static_cast<std::size_t>(y)].selfadjointView<Eigen::Lower>().rankUpdate(
           v_support().transpose(), sign);
+      count_flops(n * p * (p + 1.0));
     }
     if (!brm) continue;
     if (!next_derived) {
       blocks.next[static_cast<std::size_t>(y)].selfadjointView<Eigen::Lower>().rankUpdate(
           v.transpose(), sign * gamma_ * gamma_);
+      count_flops(n * p * (p + 1.0));
     }
     const auto rewards = weighted_rewards(rows, scratch.rewards);
     blocks.rhs.segment(y * p_, p_).noalias() -= (sign * gamma_) * (v.transpose() * rewards);
+    count_flops(2.0 * n * p);
     if (rhs_supports && gathered_without_zeros_) {
       // Every v entry is non-zero: each entry's count is the group's number of
       // non-zero rewards (the same exact integer as the product below gives).
@@ -392,6 +402,7 @@ void ActionBlockSystem::accumulate(const std::vector<std::vector<std::int32_t>>&
     } else if (rhs_supports) {
       blocks.rhs_support.segment(y * p_, p_).noalias() +=
           sign * (v_support().transpose() * nonzero_indicator(rewards, scratch.reward_support));
+      count_flops(2.0 * n * p);
     }
   }
   if (sign < 0 && block_supports) {

@@ -8,6 +8,7 @@
 
 #include "kernels/blas_runtime.hpp"
 #include "kernels/condition_estimate.hpp"
+#include "kernels/flop_count.hpp"
 #include "kernels/solve_checks.hpp"
 
 // LAPACK's Fortran entry points (reference LAPACK and OpenBLAS alike; 32-bit
@@ -72,6 +73,7 @@ SolveReport DenseSymmetricSolver::solve(const Eigen::MatrixXd& a, double ridge,
       dlansy_("1", "L", &n, factor_.data(), &lda, work_.data());  // ||A + ridge I||_1
   int info = 0;
   dpotrf_("L", &n, factor_.data(), &lda, &info);
+  count_flops(static_cast<double>(n) * n * n / 3.0);
   if (info != 0) {
     std::ostringstream message;
     if (info > 0) {
@@ -254,6 +256,7 @@ SolveReport DenseLuSolver::solve(const Eigen::MatrixXd& a, double ridge, const E
     component_pivots.resize(static_cast<std::size_t>(m));
     int info = 0;
     dgetrf_(&m, &m, factor.data(), &lda, component_pivots.data(), &info);
+    count_flops(2.0 * m * m * m / 3.0);
     if (info < 0) {
       report.message = "LAPACK dgetrf: argument " + std::to_string(-info) + " is invalid";
       return report;
