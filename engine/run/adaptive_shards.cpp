@@ -42,14 +42,10 @@ void select_adaptive_shard(const Shard& shard, const Study& study, RunOptions& o
                      std::to_string(shard.count) + " shards: use at most " +
                      std::to_string(plan.groups) + " shards");
   }
-  const auto boundary = [&](std::int64_t index) {
-    return static_cast<std::int32_t>(index * plan.groups / shard.count);
-  };
-  const std::int32_t first = boundary(shard.index);
-  const std::int32_t last = boundary(std::int64_t{shard.index} + 1);
+  const RunRange groups = shard_range(shard, plan.groups);
   ConfigurationShard selected{shard.index, shard.count, {}};
   for (std::size_t c = 0; c < plan.group_of.size(); ++c) {
-    if (plan.group_of[c] >= first && plan.group_of[c] < last) {
+    if (plan.group_of[c] >= groups.first && plan.group_of[c] < groups.last) {
       selected.scope.configurations.push_back(static_cast<std::int32_t>(c));
     }
   }

@@ -109,8 +109,12 @@ RunRange shard_runs(const Shard& shard, std::int32_t runs) {
                      "most " +
                      std::to_string(runs) + " shards");
   }
+  return shard_range(shard, runs);
+}
+
+RunRange shard_range(const Shard& shard, std::int32_t items) {
   const auto boundary = [&](std::int64_t index) {
-    return static_cast<std::int32_t>(index * runs / shard.count);
+    return static_cast<std::int32_t>(index * items / shard.count);
   };
   return {boundary(shard.index), boundary(std::int64_t{shard.index} + 1)};
 }

@@ -41,6 +41,9 @@ Shard parse_shard(std::string_view text, const EnvironmentLookup& environment);
 // shards are contiguous, cover every run once and differ in size by at most one.
 // Refuses N > runs (a shard would be empty).
 RunRange shard_runs(const Shard& shard, std::int32_t runs);
+// The same range of `items` things (runs, or an adaptive study's groups of
+// configurations: adaptive_shards.hpp) without the check.
+RunRange shard_range(const Shard& shard, std::int32_t items);
 
 // results/x.h5 -> results/x.shard-I-of-N.h5 (the same folder and extension).
 std::filesystem::path shard_output(const std::filesystem::path& output, const Shard& shard);
