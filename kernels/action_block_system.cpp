@@ -38,9 +38,11 @@ class ActionBlockFixed {
   // copy_rows: features holds state kernels (p columns), kappa(s, a) its row s, or
   // its row row_of_pair[s m + a] where row_of_pair is not empty; else features is
   // the table and kappa(s, a) its row s m + a, in block a.
+  // start_samples: the samples D_a and the start right-hand side are formed from
+  // (null: `samples`; pooled_copy_samples.hpp's by_start).
   ActionBlockFixed(const SparseRowMatrix& features, bool copy_rows,
                    std::span<const std::int32_t> row_of_pair, std::int32_t num_actions,
-                   const SampleBatch& samples);
+                   const SampleBatch& samples, const SampleBatch* start_samples = nullptr);
 
   // The row of features_ that holds kappa(state, action).
   Eigen::Index table_row(std::int64_t state, std::int32_t action) const {
@@ -77,7 +79,8 @@ class ActionBlockFixed {
 
 ActionBlockFixed::ActionBlockFixed(const SparseRowMatrix& features, bool copy_rows,
                                    std::span<const std::int32_t> row_of_pair,
-                                   std::int32_t num_actions, const SampleBatch& samples)
+                                   std::int32_t num_actions, const SampleBatch& samples,
+                                   const SampleBatch* start_samples)
     : features_(features),
       copy_rows_(copy_rows),
       row_of_pair_(row_of_pair),
@@ -128,6 +131,12 @@ ActionBlockFixed::ActionBlockFixed(const SparseRowMatrix& features, bool copy_ro
     for (const double root : sqrt_weights_) smallest_root = std::min(smallest_root, root);
     gathered_without_zeros_ = smallest_value * smallest_root > 0.0;
   }
+  if (start_samples != nullptr) {
+    ActionBlockFixed start(features, copy_rows, row_of_pair, num_actions, *start_samples);
+    start_blocks_ = std::move(start.start_blocks_);
+    start_rhs_ = std::move(start.start_rhs_);
+    return;
+  }
   start_blocks_.reserve(by_action.size());
   for (std::int32_t a = 0; a < num_actions; ++a) {
     const std::vector<std::int32_t>& rows = by_action[static_cast<std::size_t>(a)];
@@ -175,7 +184,8 @@ ActionBlockSystem::ActionBlockSystem(CopyBasisTag, const SparseRowMatrix& state_
 }
 
 std::shared_ptr<const ActionBlockFixed> ActionBlockSystem::copy_basis_fixed(
-    const SparseRowMatrix& state_kernels, std::int32_t num_actions, const SampleBatch& samples) {
+    const SparseRowMatrix& state_kernels, std::int32_t num_actions, const SampleBatch& samples,
+    const SampleBatch* start_samples) {
   if (!state_kernels.isCompressed()) {
     throw std::invalid_argument(
         "ActionBlockSystem::copy_basis_fixed: the kernels are not compressed");
@@ -185,8 +195,11 @@ std::shared_ptr<const ActionBlockFixed> ActionBlockSystem::copy_basis_fixed(
         "ActionBlockSystem::copy_basis_fixed: " + std::to_string(num_actions) + " actions");
   }
   samples.validate(static_cast<std::int32_t>(state_kernels.rows()), num_actions);
+  if (start_samples != nullptr) {
+    start_samples->validate(static_cast<std::int32_t>(state_kernels.rows()), num_actions);
+  }
   return std::make_shared<const ActionBlockFixed>(
-      state_kernels, true, std::span<const std::int32_t>(), num_actions, samples);
+      state_kernels, true, std::span<const std::int32_t>(), num_actions, samples, start_samples);
 }
 
 ActionBlockSystem::ActionBlockSystem(std::shared_ptr<const ActionBlockFixed> fixed,

@@ -112,8 +112,13 @@ class ActionBlockSystem {
                     const SampleBatch& samples, LspiSolver solver, double gamma);
   // The copy basis's fixed part, to share between systems. std::invalid_argument
   // unless state_kernels is compressed and the samples valid for its rows.
+  // start_samples (rows of state_kernels too; kept only while this returns): the
+  // samples D_a and the start right-hand side are formed from instead of `samples`,
+  // which then give only C, E and the bootstrap part of b: pooled samples
+  // (pooled_copy_samples.hpp), whose start vectors are not those of D.
   static std::shared_ptr<const ActionBlockFixed> copy_basis_fixed(
-      const SparseRowMatrix& state_kernels, std::int32_t num_actions, const SampleBatch& samples);
+      const SparseRowMatrix& state_kernels, std::int32_t num_actions, const SampleBatch& samples,
+      const SampleBatch* start_samples = nullptr);
 
   // A (k x k, dense; BRM: symmetric, both triangles) and b for the greedy policy
   // `policy` (an action per table state).

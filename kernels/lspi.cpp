@@ -12,6 +12,7 @@
 #include "kernels/action_block_system.hpp"
 #include "kernels/copy_basis_greedy.hpp"
 #include "kernels/dense_solvers.hpp"
+#include "kernels/pooled_copy_samples.hpp"
 #include "kernels/shared_row_basis.hpp"
 
 namespace ggk::kernels {
@@ -398,13 +399,22 @@ LspiResult fit_lspi_copy_basis(const SparseRowMatrix& state_kernels, std::int32_
       [&](const Eigen::VectorXd& w) { return copy_greedy(kernels, 1, p, num_actions, w); });
 }
 
-LspiResult fit_lspi_copy_basis(const SparseRowMatrix& row_kernels,
-                               std::span<const std::int32_t> row_of_state, std::int32_t num_actions,
-                               const SampleBatch& samples, const LspiOptions& options) {
-  check_options(num_actions, options);
+namespace {
+
+// The samples of states that share kernel rows in the rows' terms (every state id
+// replaced by its row), and how many sample states each row stands for; checks the
+// rows (`who` names the function in the messages).
+struct RowTerms {
+  SampleBatch by_row;
+  std::vector<std::int32_t> counted;
+};
+
+RowTerms in_row_terms(const SparseRowMatrix& row_kernels,
+                      std::span<const std::int32_t> row_of_state, std::int32_t num_actions,
+                      const SampleBatch& samples, const std::string& who) {
   const auto num_states = static_cast<std::int32_t>(row_of_state.size());
   if (static_cast<std::size_t>(num_states) != row_of_state.size()) {
-    throw std::invalid_argument("fit_lspi_copy_basis: more than 2^31 - 1 states");
+    throw std::invalid_argument(who + ": more than 2^31 - 1 states");
   }
   samples.validate(num_states, num_actions);
   const auto rows = static_cast<std::size_t>(row_kernels.rows());
@@ -412,7 +422,7 @@ LspiResult fit_lspi_copy_basis(const SparseRowMatrix& row_kernels,
   for (std::size_t s = 0; s < row_of_state.size(); ++s) {
     const std::int32_t row = row_of_state[s];
     if (row < 0 || static_cast<std::size_t>(row) >= rows) {
-      throw std::invalid_argument("fit_lspi_copy_basis: state " + std::to_string(s) + " has row " +
+      throw std::invalid_argument(who + ": state " + std::to_string(s) + " has row " +
                                   std::to_string(row) + ", outside the " + std::to_string(rows) +
                                   " rows of its kernels");
     }
@@ -420,29 +430,22 @@ LspiResult fit_lspi_copy_basis(const SparseRowMatrix& row_kernels,
   }
   const auto unused = std::find(used.begin(), used.end(), std::uint8_t{0});
   if (unused != used.end()) {
-    throw std::invalid_argument("fit_lspi_copy_basis: row " +
-                                std::to_string(unused - used.begin()) +
+    throw std::invalid_argument(who + ": row " + std::to_string(unused - used.begin()) +
                                 " of the kernels belongs to no state");
   }
-  SparseRowMatrix storage;
-  const SparseRowMatrix& kernels = compressed(row_kernels, storage);
-  // The samples in the rows' terms, in their order: every product and sum of the
-  // system is the expanded table's, term by term.
-  SampleBatch by_row = samples;
-  for (std::int32_t& s : by_row.states) s = row_of_state[static_cast<std::size_t>(s)];
-  for (std::int32_t& s : by_row.next_states) s = row_of_state[static_cast<std::size_t>(s)];
+  RowTerms terms{samples, std::vector<std::int32_t>(rows, 0)};
+  for (std::int32_t& s : terms.by_row.states) s = row_of_state[static_cast<std::size_t>(s)];
+  for (std::int32_t& s : terms.by_row.next_states) s = row_of_state[static_cast<std::size_t>(s)];
   const std::vector<std::int32_t> on_samples =
       sample_state_flags(static_cast<std::size_t>(num_states), samples);
-  std::vector<std::int32_t> counted(rows, 0);
   for (std::size_t s = 0; s < row_of_state.size(); ++s) {
-    counted[static_cast<std::size_t>(row_of_state[s])] += on_samples[s];
+    terms.counted[static_cast<std::size_t>(row_of_state[s])] += on_samples[s];
   }
-  ActionBlockSystem system(ActionBlockSystem::copy_basis_tag, kernels, num_actions, by_row,
-                           options.solver, options.gamma);
-  const Eigen::Index p = kernels.cols();
-  LspiResult result = iterate_policies(system, counted, options, [&](const Eigen::VectorXd& w) {
-    return copy_greedy(kernels, 1, p, num_actions, w);
-  });
+  return terms;
+}
+
+// The result's policy per row as a policy per state.
+LspiResult policy_per_state(LspiResult result, std::span<const std::int32_t> row_of_state) {
   if (!result.policy.empty()) {
     std::vector<std::int32_t> policy(row_of_state.size());
     for (std::size_t s = 0; s < row_of_state.size(); ++s) {
@@ -451,6 +454,52 @@ LspiResult fit_lspi_copy_basis(const SparseRowMatrix& row_kernels,
     result.policy = std::move(policy);
   }
   return result;
+}
+
+}  // namespace
+
+LspiResult fit_lspi_copy_basis(const SparseRowMatrix& row_kernels,
+                               std::span<const std::int32_t> row_of_state, std::int32_t num_actions,
+                               const SampleBatch& samples, const LspiOptions& options) {
+  check_options(num_actions, options);
+  // The samples in the rows' terms, in their order: every product and sum of the
+  // system is the expanded table's, term by term.
+  const RowTerms terms =
+      in_row_terms(row_kernels, row_of_state, num_actions, samples, "fit_lspi_copy_basis");
+  SparseRowMatrix storage;
+  const SparseRowMatrix& kernels = compressed(row_kernels, storage);
+  ActionBlockSystem system(ActionBlockSystem::copy_basis_tag, kernels, num_actions, terms.by_row,
+                           options.solver, options.gamma);
+  const Eigen::Index p = kernels.cols();
+  return policy_per_state(iterate_policies(system, terms.counted, options,
+                                           [&](const Eigen::VectorXd& w) {
+                                             return copy_greedy(kernels, 1, p, num_actions, w);
+                                           }),
+                          row_of_state);
+}
+
+LspiResult fit_lspi_pooled_copy_basis(const SparseRowMatrix& row_kernels,
+                                      std::span<const std::int32_t> row_of_state,
+                                      std::int32_t num_actions, const SampleBatch& samples,
+                                      const LspiOptions& options) {
+  check_options(num_actions, options);
+  const RowTerms terms =
+      in_row_terms(row_kernels, row_of_state, num_actions, samples, "fit_lspi_pooled_copy_basis");
+  SparseRowMatrix storage;
+  const SparseRowMatrix& kernels = compressed(row_kernels, storage);
+  const PooledCopySamples pooled = pool_copy_samples(kernels, num_actions, terms.by_row);
+  ActionBlockSystem system(ActionBlockSystem::copy_basis_tag, pooled.table, num_actions,
+                           pooled.by_successor, options.solver, options.gamma,
+                           ActionBlockSystem::copy_basis_fixed(
+                               pooled.table, num_actions, pooled.by_successor, &pooled.by_start));
+  const Eigen::Index p = kernels.cols();
+  // The greedy step reads the kernels' rows only: the pooled start vectors below
+  // them are no state's, and every successor is a row of the kernels.
+  return policy_per_state(iterate_policies(system, terms.counted, options,
+                                           [&](const Eigen::VectorXd& w) {
+                                             return copy_greedy(kernels, 1, p, num_actions, w);
+                                           }),
+                          row_of_state);
 }
 
 LspiResult fit_lspi_shared_rows(const SparseRowMatrix& kernels,

@@ -94,8 +94,9 @@ double fit_kernel_gap(const RunContext& ctx, std::int32_t p, double sigma) {
 // row_of_state is empty (one row per observation) except for proto-value
 // functions in the copy scheme: their observations take their SOM unit's row, so
 // `kernels` holds each occupied unit's row once (pvf_row_table) for
-// fit_lspi_copy_basis's shared rows, the same fit bit for bit with a greedy step
-// over the units.
+// fit_lspi_pooled_copy_basis, whose system sums over the distinct (unit, action)
+// and (action, successor unit) pairs instead of the readings and whose greedy step
+// reads each unit once.
 struct FitTable {
   kernels::SparseRowMatrix kernels;
   std::vector<std::int32_t> row_of_state;
@@ -180,8 +181,8 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point, const FitTab
     fit.lspi =
         kernels::fit_lspi_copy_basis(table.kernels, m, ctx.batch, lspi_options(point), shared);
   } else {
-    fit.lspi = kernels::fit_lspi_copy_basis(table.kernels, table.row_of_state, m, ctx.batch,
-                                            lspi_options(point));
+    fit.lspi = kernels::fit_lspi_pooled_copy_basis(table.kernels, table.row_of_state, m, ctx.batch,
+                                                   lspi_options(point));
   }
   fit.status = kernels::to_string(fit.lspi.status);
   fit.message = fit.lspi.message;
