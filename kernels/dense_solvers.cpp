@@ -67,7 +67,7 @@ SolveReport DenseSymmetricSolver::solve(const Eigen::MatrixXd& a, double ridge,
   load_lower(a, ridge, factor_);
   const int n = static_cast<int>(a.rows());
   const int lda = std::max(1, n);
-  work_.resize(3 * static_cast<std::size_t>(n));
+  work_.resize(3 * static_cast<Eigen::Index>(n));
   iwork_.resize(static_cast<std::size_t>(n));
   const double a_norm =
       dlansy_("1", "L", &n, factor_.data(), &lda, work_.data());  // ||A + ridge I||_1

@@ -50,7 +50,7 @@ class DenseSymmetricSolver {
  private:
   SolverSettings settings_;
   Eigen::MatrixXd factor_;  // reused from call to call: no fresh pages per solve
-  std::vector<double> work_;
+  Eigen::VectorXd work_;    // 64-byte aligned (kernels/CMakeLists.txt says why)
   std::vector<int> iwork_;
 };
 
