@@ -146,4 +146,41 @@ SparseRowMatrix continuous_geodesic_gaussian_kernels(
                              });
 }
 
+SparseRowMatrix leading_columns(const SparseRowMatrix& kernels, Eigen::Index p) {
+  if (p < 0 || p > kernels.cols()) {
+    throw std::invalid_argument("leading_columns: " + std::to_string(p) +
+                                " columns of a table of " + std::to_string(kernels.cols()));
+  }
+  if (!kernels.isCompressed()) {
+    throw std::invalid_argument("leading_columns: the table is not compressed");
+  }
+  // Each row's columns ascend: its entries in the leading p columns are a prefix.
+  const Eigen::Index rows = kernels.rows();
+  const auto* outer = kernels.outerIndexPtr();
+  const auto* columns = kernels.innerIndexPtr();
+  const double* values = kernels.valuePtr();
+  // Counted first: the prefix's arrays hold its entries only (a sweep keeps
+  // several prefixes of one table alive at once).
+  std::int64_t kept = 0;
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    for (auto e = outer[i]; e < outer[i + 1] && columns[e] < p; ++e) ++kept;
+  }
+  SparseRowMatrix prefix(rows, p);
+  prefix.resizeNonZeros(static_cast<Eigen::Index>(kept));
+  auto* prefix_outer = prefix.outerIndexPtr();
+  auto* prefix_columns = prefix.innerIndexPtr();
+  double* prefix_values = prefix.valuePtr();
+  std::int32_t count = 0;
+  prefix_outer[0] = 0;
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    for (auto e = outer[i]; e < outer[i + 1] && columns[e] < p; ++e) {
+      prefix_values[count] = values[e];
+      prefix_columns[count] = columns[e];
+      ++count;
+    }
+    prefix_outer[i + 1] = count;
+  }
+  return prefix;
+}
+
 }  // namespace ggk::kernels

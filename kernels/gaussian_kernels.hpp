@@ -54,4 +54,13 @@ SparseRowMatrix continuous_geodesic_gaussian_kernels(
     std::span<const std::int32_t> nearest_node, std::span<const double> distance_to_nearest,
     const Eigen::Ref<const RowMatrixXd>& center_distances, double sigma, double truncation = 0.0);
 
+// The kernels of the first p centres from those of more: every entry depends on
+// its state and centre alone, so the leading p columns of a table built for
+// centres c_0 .. c_{q-1} (q >= p, compressed) are bit for bit the table each
+// function above builds for c_0 .. c_{p-1}, truncation included. A sweep over
+// kernel counts builds the largest count's table once and takes the others from
+// it (the Khepera's OGK: 550 columns of exp per run instead of 100 ... 10, summed).
+// std::invalid_argument when p exceeds the columns or the table is not compressed.
+SparseRowMatrix leading_columns(const SparseRowMatrix& kernels, Eigen::Index p);
+
 }  // namespace ggk::kernels

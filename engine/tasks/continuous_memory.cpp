@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "engine/job/sweep.hpp"
@@ -72,6 +73,23 @@ RunMemoryEstimate estimate_continuous_run(const ContinuousSizes& sizes,
   // of -j 2).
   estimate.add("the kernel gap's distance rows (" + count_text(readings) + " observations)",
                2.0 * readings * 16.0);
+  // The GGK and OGK tables of the largest kernel count, one per basis and width,
+  // held while the run's fits take their counts' tables (the leading columns of
+  // it, continuous_protocol.cpp: kernel_bases).
+  std::vector<std::pair<KernelType, double>> bases;
+  double base_kernels = 0.0;
+  for (const SweepPoint& p : points) {
+    if (p.basis == KernelType::pvf) continue;
+    const std::pair<KernelType, double> base{p.basis, p.sigma};
+    if (std::find(bases.begin(), bases.end(), base) == bases.end()) bases.push_back(base);
+    base_kernels = std::max<double>(base_kernels, std::min<double>(p.kernels, units));
+  }
+  if (!bases.empty()) {
+    estimate.add("the largest kernel count's table of " +
+                     count_text(static_cast<double>(bases.size())) + " basis and width pairs (" +
+                     count_text(base_kernels) + " kernels)",
+                 static_cast<double>(bases.size()) * kernel_table_bytes(readings, base_kernels));
+  }
   // A fit's state kernels, shared with the fits of the other solvers at the
   // same basis, width and kernel count; the shift scheme forms its m-row
   // feature table from them.

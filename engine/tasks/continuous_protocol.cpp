@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -102,8 +103,15 @@ struct FitTable {
   std::vector<std::int32_t> row_of_state;
 };
 
-FitTable state_kernel_table(const RunContext& ctx, KernelType basis, double sigma, std::int32_t p) {
+// base: the GGK or OGK table of this basis and sigma for at least p centres (the
+// sweep's largest count, kernel_bases): its leading p columns, bit for bit the
+// table of p centres; null: built here.
+FitTable state_kernel_table(const RunContext& ctx, KernelType basis, double sigma, std::int32_t p,
+                            const kernels::SparseRowMatrix* base = nullptr) {
   const double truncation = ctx.job->basis.truncation;
+  if (base != nullptr && basis != KernelType::pvf) {
+    return {kernels::leading_columns(*base, p), {}};
+  }
   if (basis == KernelType::pvf) {
     if (ctx.job->pvf.actions == kernels::BasisScheme::copy) {
       PvfRowTable table = pvf_row_table(ctx.eigenbases.of(p), ctx.state_units.units, p);
@@ -236,6 +244,43 @@ FitRecord fit_point(const RunContext& ctx, const SweepPoint& point, const FitTab
 // formed once instead of once per solver, the same sums bit for bit). The
 // kernel gap's per-centre sums are formed first, once per width, for the largest
 // valid count.
+// The GGK or OGK table of the largest valid kernel count of one basis and sigma
+// among a run's points: the other counts' tables are its leading columns.
+struct KernelBase {
+  SweepPoint point;  // of the largest count
+  kernels::SparseRowMatrix table;
+};
+
+// One KernelBase per (basis, sigma) of the GGK and OGK points with at most as many
+// kernels as graph nodes, built in parallel: one table of the largest count's
+// columns instead of one per count (the Khepera's OGK: 100 columns of exp per run
+// instead of 550).
+std::vector<KernelBase> kernel_bases(const RunContext& ctx, std::span<const SweepPoint> points) {
+  std::vector<KernelBase> bases;
+  for (const SweepPoint& point : points) {
+    if (point.basis == KernelType::pvf || point.kernels > ctx.graph.nodes) continue;
+    const auto it = std::find_if(bases.begin(), bases.end(), [&](const KernelBase& b) {
+      return b.point.basis == point.basis && b.point.sigma == point.sigma;
+    });
+    if (it == bases.end()) {
+      bases.push_back({point, {}});
+    } else if (point.kernels > it->point.kernels) {
+      it->point = point;
+    }
+  }
+  tbb::parallel_for(std::size_t{0}, bases.size(), [&](std::size_t i) {
+    KernelBase& base = bases[i];
+    try {
+      base.table =
+          state_kernel_table(ctx, base.point.basis, base.point.sigma, base.point.kernels).kernels;
+    } catch (const kernels::NonFiniteKernelValue& e) {
+      throw non_finite_kernel_error(ctx.run, base.point, e);
+    }
+    base.table.makeCompressed();
+  });
+  return bases;
+}
+
 std::vector<FitRecord> fit_points(RunContext& ctx, std::span<const SweepPoint> points) {
   for (const SweepPoint& point : points) {
     if (point.kernels > ctx.graph.nodes || point.basis == KernelType::pvf) continue;
@@ -267,17 +312,41 @@ std::vector<FitRecord> fit_points(RunContext& ctx, std::span<const SweepPoint> p
       it->push_back(i);
     }
   }
+  std::vector<KernelBase> bases = kernel_bases(ctx, points);
+  // The groups that take their table from each base: the last to take it frees it
+  // (its fits no longer need the largest count's table beside their own).
+  auto base_of = [&](const SweepPoint& point) {
+    return std::find_if(bases.begin(), bases.end(), [&](const KernelBase& b) {
+      return b.point.basis == point.basis && b.point.sigma == point.sigma;
+    });
+  };
+  std::vector<std::atomic<std::int32_t>> base_users(bases.size());
+  for (const std::vector<std::size_t>& group : groups) {
+    const SweepPoint& first = points[group.front()];
+    const auto base = base_of(first);
+    if (base != bases.end() && first.kernels <= ctx.graph.nodes) {
+      ++base_users[static_cast<std::size_t>(base - bases.begin())];
+    }
+  }
   std::vector<FitRecord> fits(points.size());
   tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
     const std::vector<std::size_t>& group = groups[g];
     const SweepPoint& first = points[group.front()];
+    const auto base = base_of(first);
     FitTable table;
-    try {
-      if (first.kernels <= ctx.graph.nodes) {
-        table = state_kernel_table(ctx, first.basis, first.sigma, first.kernels);
+    if (first.kernels <= ctx.graph.nodes) {
+      if (base == bases.end()) {
+        try {
+          table = state_kernel_table(ctx, first.basis, first.sigma, first.kernels);
+        } catch (const kernels::NonFiniteKernelValue& e) {
+          throw non_finite_kernel_error(ctx.run, first, e);
+        }
+      } else {
+        table = state_kernel_table(ctx, first.basis, first.sigma, first.kernels, &base->table);
+        if (--base_users[static_cast<std::size_t>(base - bases.begin())] == 0) {
+          base->table = kernels::SparseRowMatrix();
+        }
       }
-    } catch (const kernels::NonFiniteKernelValue& e) {
-      throw non_finite_kernel_error(ctx.run, first, e);
     }
     const kernels::BasisScheme scheme =
         first.basis == KernelType::pvf ? ctx.job->pvf.actions : ctx.job->basis.scheme;

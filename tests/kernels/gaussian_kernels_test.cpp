@@ -148,5 +148,66 @@ TEST(GaussianKernels, RejectsBadWidths) {
   EXPECT_THROW(ordinary_gaussian_kernels(s, c, 1.0), std::invalid_argument);
 }
 
+// The leading p columns of a table of more centres are the table of the first p
+// centres bit for bit, for the three builders, with truncation (rows whose kept
+// entries end before p, and rows with none) and without; bad counts are refused.
+TEST(GaussianKernels, LeadingColumnsAreTheTableOfTheFirstCentres) {
+  RowMatrixXd states(60, 3), centers(12, 3);
+  for (Eigen::Index i = 0; i < states.rows(); ++i) {
+    const auto x = static_cast<double>(i);
+    states.row(i) << std::sin(0.7 * x), std::cos(1.3 * x), 0.05 * x;
+  }
+  for (Eigen::Index j = 0; j < centers.rows(); ++j) {
+    const auto x = static_cast<double>(j);
+    centers.row(j) << std::cos(2.1 * x), std::sin(0.4 * x), 0.25 * x;
+  }
+  RowMatrixXd center_distances(12, 20);
+  for (Eigen::Index j = 0; j < 12; ++j) {
+    for (Eigen::Index n = 0; n < 20; ++n) {
+      center_distances(j, n) = j == n + 1 ? std::numeric_limits<double>::infinity()
+                                          : std::abs(static_cast<double>(j - n)) * 0.8;
+    }
+  }
+  std::vector<std::int32_t> nearest(60);
+  std::vector<double> to_nearest(60);
+  for (std::size_t i = 0; i < 60; ++i) {
+    nearest[i] = static_cast<std::int32_t>((7 * i) % 20);
+    to_nearest[i] = 0.01 * static_cast<double>(i);
+  }
+  for (const double truncation : {0.0, 0.3}) {
+    const SparseRowMatrix all_ogk = ordinary_gaussian_kernels(states, centers, 0.9, truncation);
+    const SparseRowMatrix all_ggk = geodesic_gaussian_kernels(center_distances, 1.5, truncation);
+    const SparseRowMatrix all_continuous = continuous_geodesic_gaussian_kernels(
+        nearest, to_nearest, center_distances, 1.5, truncation);
+    for (const Eigen::Index p :
+         {Eigen::Index{0}, Eigen::Index{1}, Eigen::Index{5}, Eigen::Index{12}}) {
+      const SparseRowMatrix ogk = leading_columns(all_ogk, p);
+      const SparseRowMatrix expected_ogk =
+          ordinary_gaussian_kernels(states, centers.topRows(p), 0.9, truncation);
+      ASSERT_EQ(ogk.cols(), p);
+      EXPECT_EQ(ogk.nonZeros(), expected_ogk.nonZeros());
+      EXPECT_EQ(Eigen::MatrixXd(ogk), Eigen::MatrixXd(expected_ogk)) << p;
+      EXPECT_EQ(
+          Eigen::MatrixXd(leading_columns(all_ggk, p)),
+          Eigen::MatrixXd(geodesic_gaussian_kernels(center_distances.topRows(p), 1.5, truncation)))
+          << p;
+      const SparseRowMatrix continuous = leading_columns(all_continuous, p);
+      const SparseRowMatrix expected_continuous = continuous_geodesic_gaussian_kernels(
+          nearest, to_nearest, center_distances.topRows(p), 1.5, truncation);
+      EXPECT_EQ(continuous.nonZeros(), expected_continuous.nonZeros());
+      EXPECT_EQ(Eigen::MatrixXd(continuous), Eigen::MatrixXd(expected_continuous)) << p;
+    }
+    if (truncation > 0.0) {
+      EXPECT_LT(all_ogk.nonZeros(), 60 * 12);  // the test meets truncation
+    }
+  }
+  const SparseRowMatrix all = ordinary_gaussian_kernels(states, centers, 0.9);
+  EXPECT_THROW(leading_columns(all, 13), std::invalid_argument);
+  EXPECT_THROW(leading_columns(all, -1), std::invalid_argument);
+  SparseRowMatrix uncompressed = all;
+  uncompressed.uncompress();
+  EXPECT_THROW(leading_columns(uncompressed, 3), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace ggk::kernels
