@@ -437,6 +437,76 @@ void BM_BrmRebuildAfterTheFirst(benchmark::State& state, bool subtraction) {
                                                 benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// The Khepera's PVF fits (issue 38, session 25): 20,000 readings on 690 SOM units
+// (a reading's unit and its successor's close on a ring, as a robot's are), 4
+// actions, a dense PVF-like row of p values per unit, one BRM fit of at most 20
+// iterations. method:shared_rows sums the system over the readings
+// (fit_lspi_copy_basis with row_of_state, the old path), method:pooled over the
+// distinct (unit, action) and (action, successor unit) pairs
+// (fit_lspi_pooled_copy_basis). Counter iterations: the fit's.
+void BM_UnitRowsFit(benchmark::State& state, bool pooled) {
+  const auto p = static_cast<Eigen::Index>(state.range(0));
+  constexpr std::int32_t kUnits = 690;
+  kernels::RandomStream rng(23, 0, 0);
+  kernels::RowMatrixXd dense(kUnits, p);
+  for (Eigen::Index e = 0; e < dense.size(); ++e) dense.data()[e] = rng.uniform(-1, 1);
+  kernels::SparseRowMatrix rows = dense.sparseView();
+  rows.makeCompressed();
+  std::vector<std::int32_t> row_of_state(kReadings);
+  for (std::int32_t s = 0; s < kReadings; ++s) {
+    row_of_state[static_cast<std::size_t>(s)] =
+        s < kUnits ? s : static_cast<std::int32_t>(rng.uniform_index(kUnits));
+  }
+  kernels::SampleBatch samples;
+  for (std::int32_t i = 0; i < kSamples; ++i) {
+    const std::int32_t action = static_cast<std::int32_t>(rng.uniform_index(kActions));
+    // The successor: a reading on a unit near this one's (the ring's next few).
+    const std::int32_t unit = row_of_state[static_cast<std::size_t>(i)];
+    const std::int32_t next_unit =
+        (unit + static_cast<std::int32_t>(rng.uniform_index(4)) + action) % kUnits;
+    samples.add(i, action, next_unit % 7 == 0 ? 1.0 : 0.0, next_unit, false);
+  }
+  kernels::LspiOptions options;
+  options.solver = kernels::LspiSolver::brm;
+  options.ridge = 1e-6;
+  std::int32_t iterations = 0;
+  for (auto _ : state) {
+    const kernels::LspiResult fit =
+        pooled ? kernels::fit_lspi_pooled_copy_basis(rows, row_of_state, kActions, samples, options)
+               : kernels::fit_lspi_copy_basis(rows, row_of_state, kActions, samples, options);
+    iterations = fit.iterations();
+    benchmark::DoNotOptimize(fit.weights.data());
+  }
+  state.counters["iterations"] = iterations;
+}
+
+// The OGK tables of one Khepera run (issue 38, session 25): 20,200 readings of 8
+// sensors, centres from them, kernel counts 10, 20, ..., 100, width 1000.
+// method:each builds every count's table (the old path, 550 columns of exp),
+// method:prefix the largest and the others as its leading columns
+// (kernels::leading_columns, bit for bit the same tables).
+void BM_KernelTablesOverCounts(benchmark::State& state, bool prefix) {
+  kernels::RandomStream rng(29, 0, 0);
+  kernels::RowMatrixXd readings(kReadings, 8);
+  for (Eigen::Index e = 0; e < readings.size(); ++e) readings.data()[e] = rng.uniform(0, 1023);
+  const kernels::RowMatrixXd centers = readings.topRows(100);
+  for (auto _ : state) {
+    std::vector<kernels::SparseRowMatrix> tables;
+    if (prefix) {
+      const kernels::SparseRowMatrix largest =
+          kernels::ordinary_gaussian_kernels(readings, centers, 1000.0);
+      for (Eigen::Index p = 10; p <= 100; p += 10) {
+        tables.push_back(kernels::leading_columns(largest, p));
+      }
+    } else {
+      for (Eigen::Index p = 10; p <= 100; p += 10) {
+        tables.push_back(kernels::ordinary_gaussian_kernels(readings, centers.topRows(p), 1000.0));
+      }
+    }
+    benchmark::DoNotOptimize(tables.data());
+  }
+}
+
 // The systems of a BRM and an LSTD-Q fit of one table (what the Khepera's two
 // solvers at one kernel count build before their first iteration), at the
 // Khepera's shapes as BM_BrmRebuild (p = 100): shared:0 forms the fixed part (D_a
@@ -541,6 +611,23 @@ const bool kRegistered = [] {
         ->ArgName("p")
         ->Arg(32)
         ->Arg(128)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  }
+  for (const bool pooled : {false, true}) {
+    benchmark::RegisterBenchmark(
+        (std::string("BM_UnitRowsFit/method:") + (pooled ? "pooled" : "shared_rows")).c_str(),
+        BM_UnitRowsFit, pooled)
+        ->ArgName("p")
+        ->Arg(20)
+        ->Arg(100)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  }
+  for (const bool prefix : {false, true}) {
+    benchmark::RegisterBenchmark(
+        (std::string("BM_KernelTablesOverCounts/method:") + (prefix ? "prefix" : "each")).c_str(),
+        BM_KernelTablesOverCounts, prefix)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
   }
