@@ -71,8 +71,8 @@ kernels::SparseRowMatrix pvf_state_table(const RunEigenbasis& basis,
 
 // pvf_state_table with each distinct row once: `rows` holds the rows of the
 // distinct nodes of node_of (ascending node order), row_of_state[i] the row of
-// state i's node. For fit_lspi_copy_basis's shared rows: the Khepera's 20,200
-// readings take the values of at most 696 SOM units.
+// state i's node. For fit_lspi_pooled_copy_basis: the Khepera's 20,200 readings
+// take the values of at most 696 SOM units.
 struct PvfRowTable {
   kernels::SparseRowMatrix rows;
   std::vector<std::int32_t> row_of_state;
